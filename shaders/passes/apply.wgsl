@@ -1,0 +1,39 @@
+// Pass apply — fogs a lit colour target with the integrated volume, using the depth
+// buffer: one fullscreen triangle.
+//
+// Draw: 3 vertices, no vertex buffers. The fragment writes (in-scatter, transmittance);
+// blend it onto the colour target with
+//   colour: src * One + dst * SrcAlpha      alpha: src * Zero + dst * One
+// which gives color * T + L (Wronski 2014, "Applying effect") without reading the colour.
+// Bindings (group 0): the volfog::bindings layout (0 Froxels, 1 integrated volume,
+//   2 sampler unless VOLFOG_BINDINGS_NO_SAMPLER) plus
+//   3  texture_2d<f32>, unfilterable: the scene depth buffer (a depth texture bound as
+//      unfilterable float, as WebGPU allows; read with textureLoad), same size as the
+//      colour target.
+// Defines: VOLFOG_BINDINGS_NO_SAMPLER — manual trilinear filtering, no sampler binding.
+
+#import volfog::bindings
+#import volfog::apply::{fog_coord_from_ndc, fog_sample, fog_load}
+#import volfog::froxel::ndc_from_uv
+
+@group(0) @binding(3) var scene_depth: texture_2d<f32>;
+
+@vertex
+fn apply_vs(@builtin(vertex_index) index: u32) -> @builtin(position) vec4<f32> {
+    // Vertices (-1, -1), (3, -1), (-1, 3) cover the screen.
+    let xy = vec2<f32>(f32((index << 1u) & 2u), f32(index & 2u));
+    return vec4<f32>(xy * 2.0 - 1.0, 0.0, 1.0);
+}
+
+@fragment
+fn apply_fs(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
+    let size = vec2<f32>(textureDimensions(scene_depth));
+    let depth = textureLoad(scene_depth, vec2<i32>(frag.xy), 0).r;
+    let uv = frag.xy / size;
+    let coord = fog_coord_from_ndc(vec3<f32>(ndc_from_uv(uv), depth), bindings::fog_froxels);
+#ifdef VOLFOG_BINDINGS_NO_SAMPLER
+    return fog_load(bindings::fog_volume, coord);
+#else
+    return fog_sample(bindings::fog_volume, bindings::fog_sampler, coord);
+#endif
+}

@@ -1,0 +1,39 @@
+// Pass scan — integrates every froxel column of the scattering volume front to back.
+//
+// Dispatch: ceil(size.x / 8) x ceil(size.y / 8) x 1 workgroups of 8 x 8.
+// Bindings (group 0):
+//   0  uniform Froxels
+//   1  texture_3d<f32>: scattering volume, rgb = sigma_s * L_in, a = sigma_t (read with
+//      textureLoad, no sampler)
+//   2  texture_storage_3d<rgba16float, write>: integrated volume, rgb = in-scattered
+//      radiance from the near plane to the back of each slice, a = transmittance
+// Defines: VOLFOG_SCAN_WRONSKI_STEP (see volfog::scan).
+// Reference: Wronski 2014, "Solving scattering equation" (RayMarchThroughVolume).
+
+#import volfog::types::Froxels
+#import volfog::froxel::{slice_depth, ray_scale}
+#import volfog::scan::{scan_step, SCAN_START}
+
+@group(0) @binding(0) var<uniform> froxels: Froxels;
+@group(0) @binding(1) var scattering: texture_3d<f32>;
+@group(0) @binding(2) var integrated: texture_storage_3d<rgba16float, write>;
+
+@compute @workgroup_size(8, 8, 1)
+fn scan(@builtin(global_invocation_id) id: vec3<u32>) {
+    if id.x >= froxels.size.x || id.y >= froxels.size.y {
+        return;
+    }
+    let uv = (vec2<f32>(id.xy) + 0.5) / vec2<f32>(froxels.size.xy);
+    // Path length per metre of view depth along this column's centre ray.
+    let scale = ray_scale(uv, froxels.view_from_clip);
+    let slices = froxels.size.z;
+    var acc = SCAN_START;
+    var front = froxels.near;
+    for (var k = 0u; k < slices; k++) {
+        let back = slice_depth(f32(k + 1u) / f32(slices), froxels.near, froxels.far, froxels.curve);
+        let medium = textureLoad(scattering, vec3<u32>(id.xy, k), 0);
+        acc = scan_step(acc, medium, (back - front) * scale);
+        textureStore(integrated, vec3<u32>(id.xy, k), acc);
+        front = back;
+    }
+}

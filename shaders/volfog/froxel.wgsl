@@ -1,0 +1,66 @@
+// volfog::froxel — mapping between froxels, screen uv and view depth.
+//
+// Use:      #import volfog::froxel::{slice_depth, slice_coord, ray_scale, ...}
+// Defines:  none
+// Reference: Wronski 2014, "Volume texture layout": the volume maps the frustum to a
+//           cuboid, x and y through normalised device coordinates, z through an
+//           exponential depth distribution concentrated near the camera.
+//
+// Depth slices. With t in [0, 1] the normalised slice coordinate (t = k / N is the
+// front of slice k of N) and c >= 0 the curve:
+//     z(t) = near + (far - near) * (exp(c t) - 1) / (exp(c) - 1)
+// c -> 0 gives linear slices; c = ln(far / near) gives z(t) = near * (far / near)^t.
+// Its inverse is t(z) = ln(1 + (z - near) / (far - near) * (exp(c) - 1)) / c.
+#define_import_path volfog::froxel
+
+// Below this curve the distribution is evaluated by its series in c (error < 1e-6 of
+// the span), which avoids the cancellation of exp(c t) - 1 and exp(c) - 1.
+const CURVE_LINEAR_LIMIT: f32 = 1e-3;
+
+// View depth (m) at normalised slice coordinate t (t may lie outside [0, 1]).
+fn slice_depth(t: f32, near: f32, far: f32, curve: f32) -> f32 {
+    let span = far - near;
+    if curve < CURVE_LINEAR_LIMIT {
+        return near + span * (t + 0.5 * curve * t * (t - 1.0));
+    }
+    return near + span * (exp(curve * t) - 1.0) / (exp(curve) - 1.0);
+}
+
+// Normalised slice coordinate of view depth z (m); z is clamped to >= near, so the
+// result is >= 0. Depths beyond far give t > 1.
+fn slice_coord(z: f32, near: f32, far: f32, curve: f32) -> f32 {
+    let s = max(z - near, 0.0) / (far - near);
+    if curve < CURVE_LINEAR_LIMIT {
+        return s - 0.5 * curve * s * (s - 1.0);
+    }
+    return log(1.0 + s * (exp(curve) - 1.0)) / curve;
+}
+
+// Normalised device x, y (y up) of a screen uv (v down).
+fn ndc_from_uv(uv: vec2<f32>) -> vec2<f32> {
+    return vec2<f32>(uv.x * 2.0 - 1.0, 1.0 - uv.y * 2.0);
+}
+
+// Screen uv (v down) of normalised device x, y (y up).
+fn uv_from_ndc(ndc: vec2<f32>) -> vec2<f32> {
+    return vec2<f32>(ndc.x * 0.5 + 0.5, 0.5 - ndc.y * 0.5);
+}
+
+// View-space position of a point given in normalised device coordinates
+// (x, y in [-1, 1], depth as stored in the depth buffer). Works for standard,
+// reversed and infinite perspective projections; a point at infinity returns a
+// position whose depth is the largest finite f32.
+fn view_from_ndc(ndc: vec3<f32>, view_from_clip: mat4x4<f32>) -> vec3<f32> {
+    let p = view_from_clip * vec4<f32>(ndc, 1.0);
+    let w = select(p.w, 1e-30, abs(p.w) < 1e-30);
+    return clamp(p.xyz / w, vec3<f32>(-3.0e38), vec3<f32>(3.0e38));
+}
+
+// Length of the view ray through screen uv per metre of view depth (>= 1): a slice of
+// thickness dz is crossed over a path of dz * ray_scale.
+fn ray_scale(uv: vec2<f32>, view_from_clip: mat4x4<f32>) -> f32 {
+    // Any depth strictly inside the clip volume lies on the ray; 0.5 stays finite for
+    // standard, reversed and infinite projections.
+    let p = view_from_ndc(vec3<f32>(ndc_from_uv(uv), 0.5), view_from_clip);
+    return length(p) / max(abs(p.z), 1e-30);
+}

@@ -1,0 +1,88 @@
+//! Mirror of `volfog::apply`: fog coordinates, filtered look-ups of the integrated
+//! volume, and applying fog to a colour.
+
+use glam::{Vec2, Vec3, Vec4};
+
+use super::froxel::{slice_coord, uv_from_ndc, view_from_ndc};
+use crate::uniforms::Froxels;
+
+/// Fog coordinate (xyz texture coordinate, w weight) of screen uv and view depth.
+pub fn fog_coord(uv: Vec2, depth: f32, froxels: &Froxels) -> Vec4 {
+    let n = froxels.size.z as f32;
+    let slices = slice_coord(depth, froxels.near, froxels.far, froxels.curve) * n;
+    let w = ((slices - 0.5) / n).clamp(0.5 / n, 1.0 - 0.5 / n);
+    Vec4::new(uv.x, uv.y, w, slices.clamp(0.0, 1.0))
+}
+
+/// Fog coordinate of a view-space position.
+pub fn fog_coord_from_view(view_pos: Vec3, froxels: &Froxels) -> Vec4 {
+    let clip = froxels.clip_from_view * view_pos.extend(1.0);
+    let w = if clip.w.abs() < 1e-30 { 1e-30 } else { clip.w };
+    let ndc = Vec2::new(clip.x, clip.y) / w;
+    fog_coord(uv_from_ndc(ndc), view_pos.z.abs(), froxels)
+}
+
+/// Fog coordinate of a point in normalised device coordinates.
+pub fn fog_coord_from_ndc(ndc: Vec3, froxels: &Froxels) -> Vec4 {
+    let view = view_from_ndc(ndc, froxels.view_from_clip);
+    fog_coord(uv_from_ndc(Vec2::new(ndc.x, ndc.y)), view.z.abs(), froxels)
+}
+
+/// An integrated volume in CPU memory: `size.x * size.y * size.z` texels, x fastest.
+#[derive(Debug, Clone)]
+pub struct Volume {
+    /// Size in texels.
+    pub size: [u32; 3],
+    /// Texels (rgb in-scatter, a transmittance).
+    pub texels: Vec<Vec4>,
+}
+
+impl Volume {
+    /// The texel at integer coordinates, clamped to the edge.
+    pub fn load(&self, x: i32, y: i32, z: i32) -> Vec4 {
+        let c = |v: i32, n: u32| v.clamp(0, n as i32 - 1) as usize;
+        let [sx, sy, sz] = self.size;
+        let (x, y, z) = (c(x, sx), c(y, sy), c(z, sz));
+        self.texels[(z * sy as usize + y) * sx as usize + x]
+    }
+
+    /// Trilinear filtering with clamp-to-edge at texture coordinate `uvw`.
+    pub fn sample(&self, uvw: Vec3) -> Vec4 {
+        let size = Vec3::new(
+            self.size[0] as f32,
+            self.size[1] as f32,
+            self.size[2] as f32,
+        );
+        let texel = uvw * size - 0.5;
+        let base = texel.floor();
+        let f = texel - base;
+        let (x, y, z) = (base.x as i32, base.y as i32, base.z as i32);
+        let lerp = |a: Vec4, b: Vec4, t: f32| a + (b - a) * t;
+        let y0 = lerp(
+            lerp(self.load(x, y, z), self.load(x + 1, y, z), f.x),
+            lerp(self.load(x, y + 1, z), self.load(x + 1, y + 1, z), f.x),
+            f.y,
+        );
+        let y1 = lerp(
+            lerp(self.load(x, y, z + 1), self.load(x + 1, y, z + 1), f.x),
+            lerp(
+                self.load(x, y + 1, z + 1),
+                self.load(x + 1, y + 1, z + 1),
+                f.x,
+            ),
+            f.y,
+        );
+        lerp(y0, y1, f.z)
+    }
+
+    /// Fog at a fog coordinate (same result as `fog_sample` / `fog_load`).
+    pub fn fog(&self, coord: Vec4) -> Vec4 {
+        let none = Vec4::new(0.0, 0.0, 0.0, 1.0);
+        none + (self.sample(coord.truncate()) - none) * coord.w
+    }
+}
+
+/// A lit colour seen through fog: `color * T + L`.
+pub fn apply_fog(color: Vec3, fog: Vec4) -> Vec3 {
+    color * fog.w + fog.truncate()
+}

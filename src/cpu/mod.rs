@@ -1,0 +1,10 @@
+//! The shader formulas in Rust: the same functions as the WGSL modules, with the
+//! same names and constants, evaluated in f32 like the GPU (glam types).
+//!
+//! They are the oracle of the GPU tests and a public API for gameplay queries, such
+//! as how much fog lies between two points.
+
+pub mod apply;
+pub mod froxel;
+pub mod phase;
+pub mod scan;

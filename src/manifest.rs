@@ -1,0 +1,152 @@
+//! The shader manifest: every importable module in dependency order, and every
+//! pass with the define axes it is built under.
+//!
+//! This file is shared verbatim by `build.rs` (which expands and translates every
+//! variant), by the library (`volfog::shaders`) and by the tests, so the three can
+//! never disagree about what exists.
+
+/// One importable WGSL module, `#define_import_path volfog::<stem>`.
+#[derive(Debug, Clone, Copy)]
+pub struct ModuleSource {
+    /// The import path, `volfog::<file stem>`.
+    pub import_path: &'static str,
+    /// Path of the file relative to the crate root (for error messages).
+    pub file: &'static str,
+    /// The WGSL text.
+    pub source: &'static str,
+}
+
+/// One axis along which a pass is specialised.
+#[derive(Debug, Clone, Copy)]
+pub enum Axis {
+    /// A boolean define: the variant either has it or not.
+    Flag(&'static str),
+    /// Mutually exclusive defines: the variant has none or exactly one of them.
+    OneOf(&'static [&'static str]),
+}
+
+impl Axis {
+    /// Every define this axis can set.
+    pub fn defines(&self) -> &[&'static str] {
+        match self {
+            Axis::Flag(name) => core::slice::from_ref(name),
+            Axis::OneOf(names) => names,
+        }
+    }
+}
+
+/// A define that carries an unsigned value (`NAME=VALUE`), accepted by
+/// custom compositions with the given inclusive range.
+#[derive(Debug, Clone, Copy)]
+pub struct ValueDefine {
+    /// Define name, e.g. `VOLFOG_NOISE_OCTAVES`.
+    pub name: &'static str,
+    /// Smallest accepted value.
+    pub min: u32,
+    /// Largest accepted value.
+    pub max: u32,
+    /// Value used when the define is absent.
+    pub default: u32,
+}
+
+/// A pass: one WGSL file of entry points plus its bindings.
+#[derive(Debug, Clone, Copy)]
+pub struct PassSource {
+    /// Pass name, also the file stem under `shaders/passes/`.
+    pub name: &'static str,
+    /// Path of the file relative to the crate root.
+    pub file: &'static str,
+    /// The WGSL text.
+    pub source: &'static str,
+    /// Boolean / exclusive define axes; the prebuilt variants are their product.
+    pub axes: &'static [Axis],
+    /// Valued defines accepted by custom compositions (not expanded at build time).
+    pub values: &'static [ValueDefine],
+    /// Defines that are always set for this pass (`NAME`, `NAME=VALUE`).
+    pub fixed: &'static [(&'static str, u32)],
+}
+
+macro_rules! module {
+    ($stem:literal) => {
+        ModuleSource {
+            import_path: concat!("volfog::", $stem),
+            file: concat!("shaders/volfog/", $stem, ".wgsl"),
+            source: include_str!(concat!("../shaders/volfog/", $stem, ".wgsl")),
+        }
+    };
+}
+
+macro_rules! pass {
+    ($stem:literal, axes: $axes:expr, values: $values:expr, fixed: $fixed:expr) => {
+        PassSource {
+            name: $stem,
+            file: concat!("shaders/passes/", $stem, ".wgsl"),
+            source: include_str!(concat!("../shaders/passes/", $stem, ".wgsl")),
+            axes: $axes,
+            values: $values,
+            fixed: $fixed,
+        }
+    };
+}
+
+/// Importable modules, each after the modules it imports.
+pub const MODULES: &[ModuleSource] = &[
+    module!("types"),
+    module!("froxel"),
+    module!("phase"),
+    module!("scan"),
+    module!("apply"),
+    module!("bindings"),
+];
+
+/// Passes (entry-point files) and their define axes.
+pub const PASSES: &[PassSource] = &[
+    pass!("scan", axes: &[Axis::Flag("VOLFOG_SCAN_WRONSKI_STEP")], values: &[], fixed: &[]),
+    pass!(
+        "apply",
+        axes: &[Axis::Flag("VOLFOG_BINDINGS_NO_SAMPLER")],
+        values: &[],
+        fixed: &[("VOLFOG_BINDINGS_APPLY_GROUP", 0)]
+    ),
+];
+
+/// Looks a pass up by name.
+pub fn pass(name: &str) -> Option<&'static PassSource> {
+    PASSES.iter().find(|p| p.name == name)
+}
+
+/// The variant name for a pass and a set of boolean defines:
+/// `pass@default` without defines, otherwise `pass@A+B` with the `VOLFOG_`
+/// prefix dropped and the defines sorted.
+pub fn variant_name(pass: &str, defines: &[&str]) -> String {
+    if defines.is_empty() {
+        return format!("{pass}@default");
+    }
+    let mut short: Vec<&str> = defines
+        .iter()
+        .map(|d| d.strip_prefix("VOLFOG_").unwrap_or(d))
+        .collect();
+    short.sort_unstable();
+    format!("{pass}@{}", short.join("+"))
+}
+
+/// Every combination of a pass's axes, each as a sorted list of defines.
+pub fn expand_axes(axes: &[Axis]) -> Vec<Vec<&'static str>> {
+    let mut combos: Vec<Vec<&'static str>> = vec![Vec::new()];
+    for axis in axes {
+        let mut next = Vec::new();
+        for combo in &combos {
+            next.push(combo.clone());
+            for define in axis.defines() {
+                let mut with = combo.clone();
+                with.push(define);
+                next.push(with);
+            }
+        }
+        combos = next;
+    }
+    for combo in &mut combos {
+        combo.sort_unstable();
+    }
+    combos
+}

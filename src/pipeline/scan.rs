@@ -1,0 +1,115 @@
+//! The scan pass: integrates the scattering volume front to back into the
+//! integrated volume (`shaders/passes/scan.wgsl`).
+
+use super::{prebuilt_wgsl, storage_entry, texture_entry, uniform_entry};
+use crate::cpu::scan::ScanStep;
+
+/// Workgroup size of the scan (x, y).
+pub const WORKGROUP: u32 = 8;
+
+/// The compiled scan pass.
+#[derive(Debug)]
+pub struct ScanPass {
+    layout: wgpu::BindGroupLayout,
+    pipeline: wgpu::ComputePipeline,
+}
+
+impl ScanPass {
+    /// The prebuilt variant used for a scan step.
+    pub fn variant(step: ScanStep) -> &'static str {
+        match step {
+            ScanStep::EnergyConserving => "scan@default",
+            ScanStep::Wronski => "scan@SCAN_WRONSKI_STEP",
+        }
+    }
+
+    /// The bind group layout: 0 `Froxels` uniform, 1 scattering volume (3D float,
+    /// read with textureLoad), 2 integrated volume (3D rgba16float, write-only storage).
+    pub fn layout_entries() -> [wgpu::BindGroupLayoutEntry; 3] {
+        [
+            uniform_entry(0, wgpu::ShaderStages::COMPUTE),
+            texture_entry(
+                1,
+                wgpu::ShaderStages::COMPUTE,
+                wgpu::TextureViewDimension::D3,
+                false,
+            ),
+            storage_entry(
+                2,
+                wgpu::TextureViewDimension::D3,
+                wgpu::TextureFormat::Rgba16Float,
+            ),
+        ]
+    }
+
+    /// Compiles the pass.
+    pub fn new(device: &wgpu::Device, step: ScanStep) -> Self {
+        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("volfog scan"),
+            entries: &Self::layout_entries(),
+        });
+        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some(Self::variant(step)),
+            source: wgpu::ShaderSource::Wgsl(prebuilt_wgsl(Self::variant(step), "scan").into()),
+        });
+        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("volfog scan"),
+            bind_group_layouts: &[Some(&layout)],
+            immediate_size: 0,
+        });
+        let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+            label: Some("volfog scan"),
+            layout: Some(&pipeline_layout),
+            module: &module,
+            entry_point: Some("scan"),
+            compilation_options: Default::default(),
+            cache: None,
+        });
+        Self { layout, pipeline }
+    }
+
+    /// The bind group layout.
+    pub fn bind_group_layout(&self) -> &wgpu::BindGroupLayout {
+        &self.layout
+    }
+
+    /// A bind group for the given resources.
+    pub fn bind_group(
+        &self,
+        device: &wgpu::Device,
+        froxels: &wgpu::Buffer,
+        scattering: &wgpu::TextureView,
+        integrated: &wgpu::TextureView,
+    ) -> wgpu::BindGroup {
+        device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("volfog scan"),
+            layout: &self.layout,
+            entries: &[
+                wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: froxels.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 1,
+                    resource: wgpu::BindingResource::TextureView(scattering),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 2,
+                    resource: wgpu::BindingResource::TextureView(integrated),
+                },
+            ],
+        })
+    }
+
+    /// Records the scan of a volume of `size` froxels (x, y).
+    pub fn encode(
+        &self,
+        pass: &mut wgpu::ComputePass<'_>,
+        bind_group: &wgpu::BindGroup,
+        size: [u32; 2],
+    ) {
+        pass.set_pipeline(&self.pipeline);
+        pass.set_bind_group(0, bind_group, &[]);
+        pass.dispatch_workgroups(size[0].div_ceil(WORKGROUP), size[1].div_ceil(WORKGROUP), 1);
+    }
+}
