@@ -15,5 +15,6 @@ pub mod export;
 pub mod gpu;
 pub mod manifest;
 pub mod pipeline;
+pub mod selfcheck;
 pub mod shaders;
 pub mod uniforms;

@@ -8,7 +8,7 @@
 //! use glam::{Mat4, UVec3};
 //! use volfog::uniforms::Froxels;
 //!
-//! let proj = Mat4::perspective_rh(1.0, 16.0 / 9.0, 0.1, 1000.0);
+//! let proj = glam::camera::rh::proj::directx::perspective(1.0, 16.0 / 9.0, 0.1, 1000.0);
 //! let froxels = Froxels::new(proj, UVec3::new(160, 90, 128), 0.5, 128.0, 4.0).unwrap();
 //! let bytes = froxels.to_bytes();
 //! assert_eq!(bytes.len(), 160);

@@ -40,9 +40,11 @@ fn phase_schlick(cos_theta: f32, k: f32) -> f32 {
     return INV_4PI * (1.0 - k * k) / (d * d);
 }
 
-// The Schlick parameter k that best matches HG of mean cosine g (Blasi et al. 1993).
+// The Schlick parameter k that best matches HG of mean cosine g (Blasi et al. 1993),
+// k = 1.55 g - 0.55 g^3. The fit exceeds |k| = 1 above |g| ~ 0.94, so k is clamped
+// to [-0.999, 0.999] to keep the function positive and normalised.
 fn schlick_k(g: f32) -> f32 {
-    return (1.55 - 0.55 * g * g) * g;
+    return clamp((1.55 - 0.55 * g * g) * g, -0.999, 0.999);
 }
 
 // Cornette-Shanks: 3 (1 - g^2) (1 + cos^2) / (8 pi (2 + g^2) (1 + g^2 - 2 g cos)^(3/2)).

@@ -40,9 +40,10 @@ pub fn phase_schlick(cos_theta: f32, k: f32) -> f32 {
     INV_4PI * (1.0 - k * k) / (d * d)
 }
 
-/// The Schlick parameter matching HG of mean cosine `g` (Blasi et al. 1993).
+/// The Schlick parameter matching HG of mean cosine `g` (Blasi et al. 1993),
+/// clamped to `[-0.999, 0.999]` where the fit would leave `(-1, 1)`.
 pub fn schlick_k(g: f32) -> f32 {
-    (1.55 - 0.55 * g * g) * g
+    ((1.55 - 0.55 * g * g) * g).clamp(-0.999, 0.999)
 }
 
 /// Cornette-Shanks phase function.
