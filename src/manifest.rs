@@ -64,6 +64,8 @@ pub struct PassSource {
     pub values: &'static [ValueDefine],
     /// Defines that are always set for this pass (`NAME`, `NAME=VALUE`).
     pub fixed: &'static [(&'static str, u32)],
+    /// How to run the pass (dispatch or draw, pipeline state), for the binding manifest.
+    pub usage: &'static str,
 }
 
 macro_rules! module {
@@ -77,7 +79,7 @@ macro_rules! module {
 }
 
 macro_rules! pass {
-    ($stem:literal, axes: $axes:expr, values: $values:expr, fixed: $fixed:expr) => {
+    ($stem:literal, axes: $axes:expr, values: $values:expr, fixed: $fixed:expr, usage: $usage:expr) => {
         PassSource {
             name: $stem,
             file: concat!("shaders/passes/", $stem, ".wgsl"),
@@ -85,6 +87,7 @@ macro_rules! pass {
             axes: $axes,
             values: $values,
             fixed: $fixed,
+            usage: $usage,
         }
     };
 }
@@ -101,12 +104,23 @@ pub const MODULES: &[ModuleSource] = &[
 
 /// Passes (entry-point files) and their define axes.
 pub const PASSES: &[PassSource] = &[
-    pass!("scan", axes: &[Axis::Flag("VOLFOG_SCAN_WRONSKI_STEP")], values: &[], fixed: &[]),
+    pass!(
+        "scan",
+        axes: &[Axis::Flag("VOLFOG_SCAN_WRONSKI_STEP")],
+        values: &[],
+        fixed: &[],
+        usage: "Dispatch ceil(size.x / 8) x ceil(size.y / 8) x 1 workgroups after the \
+                scattering volume is written; the integrated volume is then read by apply."
+    ),
     pass!(
         "apply",
         axes: &[Axis::Flag("VOLFOG_BINDINGS_NO_SAMPLER")],
         values: &[],
-        fixed: &[("VOLFOG_BINDINGS_APPLY_GROUP", 0)]
+        fixed: &[("VOLFOG_BINDINGS_APPLY_GROUP", 0)],
+        usage: "Draw 3 vertices without vertex buffers onto the lit colour target (load, \
+                no depth attachment). Blend colour: src * One + dst * SrcAlpha (add); \
+                alpha: src * Zero + dst * One (add). The sampler (binding 2) is linear with \
+                clamp-to-edge addressing."
     ),
 ];
 

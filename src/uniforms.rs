@@ -53,7 +53,9 @@ pub const MAX_FROXELS_PER_AXIS: u32 = 2048;
 pub const MAX_SLICE_CURVE: f32 = 30.0;
 
 /// Placement of a camera-aligned froxel volume (WGSL `volfog::types::Froxels`).
-#[derive(Debug, Clone, Copy, PartialEq, ShaderType)]
+/// `Default` is a placeholder for layout probes, not a valid placement: build one
+/// with [`Froxels::new`].
+#[derive(Debug, Clone, Copy, PartialEq, Default, ShaderType)]
 pub struct Froxels {
     /// Projection (view -> clip).
     pub clip_from_view: Mat4,
