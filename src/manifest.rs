@@ -100,6 +100,9 @@ pub const MODULES: &[ModuleSource] = &[
     module!("scan"),
     module!("apply"),
     module!("bindings"),
+    module!("density"),
+    module!("lights"),
+    module!("esm"),
 ];
 
 /// Passes (entry-point files) and their define axes.
@@ -121,6 +124,33 @@ pub const PASSES: &[PassSource] = &[
                 no depth attachment). Blend colour: src * One + dst * SrcAlpha (add); \
                 alpha: src * Zero + dst * One (add). The sampler (binding 2) is linear with \
                 clamp-to-edge addressing."
+    ),
+    pass!(
+        "esm_downsample",
+        axes: &[Axis::Flag("VOLFOG_ESM_LOG_SPACE")],
+        values: &[],
+        fixed: &[],
+        usage: "Dispatch ceil(esm_width / 8) x ceil(esm_height / 8) x cascades workgroups; \
+                the shadow map is 4x the ESM size, one array layer per cascade. The sampler \
+                (binding 2) is non-filtering with clamp-to-edge addressing."
+    ),
+    pass!(
+        "esm_blur",
+        axes: &[Axis::Flag("VOLFOG_ESM_LOG_SPACE")],
+        values: &[ValueDefine { name: "VOLFOG_ESM_BLUR_RADIUS", min: 1, max: 16, default: 5 }],
+        fixed: &[],
+        usage: "Run esm_blur_x from the ESM into a temporary array, then esm_blur_y back. \
+                esm_blur_x: dispatch ceil(width / 64) x height x cascades; esm_blur_y: \
+                ceil(height / 64) x width x cascades."
+    ),
+    pass!(
+        "temporal",
+        axes: &[Axis::Flag("VOLFOG_INJECT_JITTER")],
+        values: &[],
+        fixed: &[],
+        usage: "Dispatch ceil(size.x / 4) x ceil(size.y / 4) x ceil(size.z / 4) workgroups \
+                after inject; ping-pong the stabilised volume with the history. The sampler \
+                (binding 4) is linear with clamp-to-edge addressing."
     ),
 ];
 

@@ -49,6 +49,24 @@ impl Marker for UVec3 {
         UVec3::new(0xA1, 0xA2, 0xA3)
     }
 }
+impl Marker for [Mat4; 4] {
+    fn marker() -> Self {
+        std::array::from_fn(|k| {
+            Mat4::from_cols_array(&std::array::from_fn(|i| 200.0 + (16 * k + i) as f32))
+        })
+    }
+}
+impl Marker for uniforms::DirectionalLight {
+    fn marker() -> Self {
+        uniforms::DirectionalLight {
+            direction: Vec3::marker(),
+            fog_intensity: f32::marker(),
+            color: Vec3::marker(),
+            toward_tint: Vec3::marker(),
+            away_tint: Vec3::marker(),
+        }
+    }
+}
 impl Marker for Mat4 {
     fn marker() -> Self {
         Mat4::from_cols_array(&std::array::from_fn(|i| 100.0 + i as f32))
@@ -70,21 +88,84 @@ macro_rules! measure {
             let changed: Vec<usize> = (0..bytes.len()).filter(|&i| bytes[i] != base_bytes[i]).collect();
             let first = (*changed.first().unwrap() / 4 * 4) as u32;
             let last = (changed.last().unwrap() / 4 * 4 + 4) as u32;
-            members.push((stringify!($field).to_string(), first, last - first));
+            // A nested struct's trailing padding is never written: take its own size.
+            let size = (last - first).max(<$fty as encase::ShaderType>::min_size().get() as u32);
+            members.push((stringify!($field).to_string(), first, size));
         )*
         (stringify!($ty), (members, base_bytes.len() as u32))
     }};
 }
 
 fn rust_layouts() -> BTreeMap<&'static str, Measured> {
-    BTreeMap::from([measure!(Froxels {
-        clip_from_view: Mat4,
-        view_from_clip: Mat4,
-        size: UVec3,
-        near: f32,
-        far: f32,
-        curve: f32,
-    })])
+    BTreeMap::from([
+        measure!(FogFrame {
+            world_from_view: Mat4,
+            prev_clip_from_world: Mat4,
+            camera_position: Vec3,
+            time: f32,
+            jitter: Vec3,
+            history_weight: f32,
+            history_valid: u32,
+        }),
+        measure!(FogMedium {
+            albedo: Vec3,
+            density: f32,
+            up: Vec3,
+            height_falloff: f32,
+            wind: Vec3,
+            base_height: f32,
+            texture_scale: Vec3,
+            noise_strength: f32,
+            texture_offset: Vec3,
+            noise_scale: f32,
+            phase_g: f32,
+            local_volume_count: u32,
+        }),
+        measure!(LocalVolume {
+            local_from_world: Mat4,
+            density: f32,
+            edge: f32,
+            shape: u32,
+        }),
+        measure!(DirectionalLight {
+            direction: Vec3,
+            fog_intensity: f32,
+            color: Vec3,
+            toward_tint: Vec3,
+            away_tint: Vec3,
+        }),
+        measure!(FogLight {
+            position: Vec3,
+            range: f32,
+            color: Vec3,
+            fog_intensity: f32,
+            direction: Vec3,
+            radius: f32,
+            cos_outer: f32,
+            cos_inner: f32,
+        }),
+        measure!(FogLighting {
+            sun: uniforms::DirectionalLight,
+            ambient_r: Vec4,
+            ambient_g: Vec4,
+            ambient_b: Vec4,
+            light_count: u32,
+        }),
+        measure!(ShadowCascades {
+            light_from_world: [Mat4; 4],
+            splits: Vec4,
+            count: u32,
+            exponent: f32,
+        }),
+        measure!(Froxels {
+            clip_from_view: Mat4,
+            view_from_clip: Mat4,
+            size: UVec3,
+            near: f32,
+            far: f32,
+            curve: f32,
+        }),
+    ])
 }
 
 fn wgsl_layouts() -> BTreeMap<String, Measured> {

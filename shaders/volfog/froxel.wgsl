@@ -64,3 +64,41 @@ fn ray_scale(uv: vec2<f32>, view_from_clip: mat4x4<f32>) -> f32 {
     let p = view_from_ndc(vec3<f32>(ndc_from_uv(uv), 0.5), view_from_clip);
     return length(p) / max(abs(p.z), 1e-30);
 }
+
+// Radical inverse of index in the given base (Halton sequence), in [0, 1).
+fn halton(index: u32, base: u32) -> f32 {
+    var f = 1.0;
+    var r = 0.0;
+    var i = index;
+    let inv = 1.0 / f32(base);
+    while i > 0u {
+        f *= inv;
+        r += f * f32(i % base);
+        i /= base;
+    }
+    return r;
+}
+
+// Sample offset inside a froxel for frame `frame` (froxel units, [-0.5, 0.5)^3): the
+// Halton (2, 3, 5) point of index frame % 16 + 1 (Wronski 2014, "Sample jittering").
+fn froxel_jitter(frame: u32) -> vec3<f32> {
+    let i = frame % 16u + 1u;
+    return vec3<f32>(halton(i, 2u), halton(i, 3u), halton(i, 5u)) - 0.5;
+}
+
+// View-space position (m) of a point inside froxel `id` at offset `offset` from its
+// centre (froxel units): x, y through the screen uv, z through the slice distribution.
+fn froxel_view_position(
+    id: vec3<u32>,
+    offset: vec3<f32>,
+    size: vec3<u32>,
+    view_from_clip: mat4x4<f32>,
+    near: f32,
+    far: f32,
+    curve: f32,
+) -> vec3<f32> {
+    let cell = (vec3<f32>(id) + 0.5 + offset) / vec3<f32>(size);
+    let depth = slice_depth(cell.z, near, far, curve);
+    let ray = view_from_ndc(vec3<f32>(ndc_from_uv(cell.xy), 0.5), view_from_clip);
+    return ray * (depth / max(abs(ray.z), 1e-30));
+}

@@ -87,3 +87,11 @@ fn phase_hg_sh_l1(dir: vec3<f32>, g: f32) -> vec4<f32> {
 fn phase_sh_l1_radiance(phase_sh: vec4<f32>, sh_r: vec4<f32>, sh_g: vec4<f32>, sh_b: vec4<f32>) -> vec3<f32> {
     return vec3<f32>(dot(phase_sh, sh_r), dot(phase_sh, sh_g), dot(phase_sh, sh_b));
 }
+
+// Art-driven two-colour phase of Assassin's Creed 4 (Wronski 2014, "Density estimation
+// and volume lighting"): isotropic in shape, tinted from `away` (looking away from the
+// light, cos_theta = -1) to `toward` (looking into it, cos_theta = 1). Normalised when
+// both tints are 1.
+fn phase_two_color(cos_theta: f32, toward: vec3<f32>, away: vec3<f32>) -> vec3<f32> {
+    return INV_4PI * mix(away, toward, 0.5 + 0.5 * cos_theta);
+}

@@ -1,0 +1,50 @@
+// volfog::density — extinction of the participating medium at a point.
+//
+// Use:      #import volfog::density::{height_density, local_volume_density, medium_extinction}
+// Defines:  none
+// Units:    positions in metres (world space), extinction in 1/m.
+// Reference: Wronski 2014, "Density estimation and volume lighting": procedural Perlin
+//           noise animated by wind times a vertical (exponential) attenuation; "Controllable
+//           density": analytical volumetric shapes injected into the volume. The height
+//           profile b e^(-c (h - h0)) is Wenzel 2007's global volumetric fog density.
+#define_import_path volfog::density
+
+#import volfog::types::{FogMedium, LocalVolume}
+
+// Exponents are clamped to this magnitude so the density stays finite in f32.
+const DENSITY_MAX_EXPONENT: f32 = 80.0;
+
+// Exponential height profile b * exp(-c * (h - h0)) at height h (m along the up axis).
+fn height_density(h: f32, b: f32, c: f32, h0: f32) -> f32 {
+    return b * exp(clamp(-c * (h - h0), -DENSITY_MAX_EXPONENT, DENSITY_MAX_EXPONENT));
+}
+
+// Soft membership in [0, 1] of a point given in a local volume's unit shape space:
+// 1 inside, falling linearly to 0 over `edge` (fraction of the unit extent) at the
+// boundary of the box [-1, 1]^3 (shape 0) or the unit sphere (shape 1).
+fn local_volume_weight(local: vec3<f32>, shape: u32, edge: f32) -> f32 {
+    var d: f32;
+    if shape == 0u {
+        let a = abs(local);
+        d = max(a.x, max(a.y, a.z));
+    } else {
+        d = length(local);
+    }
+    return clamp((1.0 - d) / max(edge, 1e-4), 0.0, 1.0);
+}
+
+// Extinction (1/m) a local volume adds at a world position (negative clears fog).
+fn local_volume_density(volume: LocalVolume, world: vec3<f32>) -> f32 {
+    let local = (volume.local_from_world * vec4<f32>(world, 1.0)).xyz;
+    return volume.density * local_volume_weight(local, volume.shape, volume.edge);
+}
+
+// Global extinction (1/m) at a world position, given the medium, a noise value in
+// [-1, 1] and a density-texture factor (1 without a texture); local volumes are added
+// by the caller and the sum clamped with max(0, .).
+fn medium_extinction(medium: FogMedium, world: vec3<f32>, noise: f32, texture_factor: f32) -> f32 {
+    let h = dot(world, medium.up);
+    let profile = height_density(h, medium.density, medium.height_falloff, medium.base_height);
+    let modulation = max(1.0 + medium.noise_strength * noise, 0.0);
+    return profile * modulation * max(texture_factor, 0.0);
+}

@@ -1,0 +1,116 @@
+// volfog::esm — exponential shadow maps for the fog's main light.
+//
+// Use:      #import volfog::esm::{esm_visibility, esm_cascade, ...}
+// Defines:  VOLFOG_ESM_LOG_SPACE — the filtered maps hold log(mean(exp(c d))) instead of
+//           mean(exp(c d)), so exponents above 88 cannot overflow f32.
+// Data:     an ESM texel holds the filtered occluder term mean(exp(c * d)) of shadow-map
+//           depths d in [0, 1]; the visibility of a receiver at depth r is
+//           saturate(occluder * exp(-c * r)) = saturate(exp(c * (d - r))) for one occluder.
+//           Behind an occluder the visibility falls as exp(-c * (r - d)): below 0.05 once
+//           the receiver is 3 / c behind it (the leak band).
+// Reference: Wronski 2014, bonus slides "Exponential Shadow Maps use in Volumetric Fog"
+//           (downsample with exp, separable 11-tap box blur, saturate(occluder / receiver));
+//           Annen et al. 2008, "Exponential Shadow Maps".
+#define_import_path volfog::esm
+
+#import volfog::types::ShadowCascades
+
+// Occluder value of one shadow-map depth (linear or log space).
+fn esm_encode(depth: f32, exponent: f32) -> f32 {
+#ifdef VOLFOG_ESM_LOG_SPACE
+    return exponent * depth;
+#else
+    return exp(exponent * depth);
+#endif
+}
+
+// Mean of four occluder values (a log-sum-exp in log space).
+fn esm_mean4(v: vec4<f32>) -> f32 {
+#ifdef VOLFOG_ESM_LOG_SPACE
+    let m = max(max(v.x, v.y), max(v.z, v.w));
+    return m + log(dot(exp(v - m), vec4<f32>(0.25)));
+#else
+    return dot(v, vec4<f32>(0.25));
+#endif
+}
+
+// Combines two means of n1 and n2 values into the mean of all n1 + n2.
+fn esm_merge(a: f32, na: f32, b: f32, nb: f32) -> f32 {
+#ifdef VOLFOG_ESM_LOG_SPACE
+    let m = max(a, b);
+    return m + log((na * exp(a - m) + nb * exp(b - m)) / (na + nb));
+#else
+    return (na * a + nb * b) / (na + nb);
+#endif
+}
+
+// Visibility in [0, 1] of a receiver at depth `receiver` given a filtered occluder value.
+fn esm_visibility(occluder: f32, receiver: f32, exponent: f32) -> f32 {
+#ifdef VOLFOG_ESM_LOG_SPACE
+    return clamp(exp(min(occluder - exponent * receiver, 0.0)), 0.0, 1.0);
+#else
+    return clamp(occluder * exp(-exponent * receiver), 0.0, 1.0);
+#endif
+}
+
+// Bilinear filtering of one ESM layer at uv (R32Float is not filterable in WebGPU, so
+// the four texels are loaded and weighted here; clamp to edge). In log space the
+// occluder values are interpolated in their linear domain.
+fn esm_occluder(esm: texture_2d_array<f32>, uv: vec2<f32>, layer: u32) -> f32 {
+    let size = vec2<i32>(textureDimensions(esm));
+    let texel = uv * vec2<f32>(size) - 0.5;
+    let base = floor(texel);
+    let f = texel - base;
+    let lo = clamp(vec2<i32>(base), vec2<i32>(0), size - 1);
+    let hi = clamp(vec2<i32>(base) + 1, vec2<i32>(0), size - 1);
+    let v = vec4<f32>(
+        textureLoad(esm, vec2<i32>(lo.x, lo.y), layer, 0).r,
+        textureLoad(esm, vec2<i32>(hi.x, lo.y), layer, 0).r,
+        textureLoad(esm, vec2<i32>(lo.x, hi.y), layer, 0).r,
+        textureLoad(esm, vec2<i32>(hi.x, hi.y), layer, 0).r,
+    );
+    let w = vec4<f32>((1.0 - f.x) * (1.0 - f.y), f.x * (1.0 - f.y), (1.0 - f.x) * f.y, f.x * f.y);
+#ifdef VOLFOG_ESM_LOG_SPACE
+    let m = max(max(v.x, v.y), max(v.z, v.w));
+    return m + log(max(dot(exp(v - m), w), 1e-30));
+#else
+    return dot(v, w);
+#endif
+}
+
+// Cascade index for a view depth (m): the first cascade whose split exceeds it, or
+// `count` when the depth lies beyond the last cascade.
+fn esm_cascade(view_depth: f32, splits: vec4<f32>, count: u32) -> u32 {
+    var i = 0u;
+    while i < count && view_depth >= splits[i] {
+        i += 1u;
+    }
+    return i;
+}
+
+// Shadow-map uv (v down) and depth of a world position in a cascade.
+fn esm_shadow_coord(light_from_world: mat4x4<f32>, world: vec3<f32>) -> vec3<f32> {
+    let clip = light_from_world * vec4<f32>(world, 1.0);
+    let ndc = clip.xyz / clip.w;
+    return vec3<f32>(ndc.x * 0.5 + 0.5, 0.5 - ndc.y * 0.5, ndc.z);
+}
+
+// Visibility of the directional light at a world position and view depth, from the
+// cascades' filtered ESM array (1 outside every cascade).
+fn esm_shadow(
+    esm: texture_2d_array<f32>,
+    cascades: ShadowCascades,
+    world: vec3<f32>,
+    view_depth: f32,
+) -> f32 {
+    let i = esm_cascade(view_depth, cascades.splits, cascades.count);
+    if i >= cascades.count {
+        return 1.0;
+    }
+    let coord = esm_shadow_coord(cascades.light_from_world[i], world);
+    if any(coord.xy < vec2<f32>(0.0)) || any(coord.xy > vec2<f32>(1.0)) || coord.z > 1.0 {
+        return 1.0;
+    }
+    let occluder = esm_occluder(esm, coord.xy, i);
+    return esm_visibility(occluder, clamp(coord.z, 0.0, 1.0), cascades.exponent);
+}

@@ -1,0 +1,79 @@
+// volfog::lights — light reaching a point of the medium, and in-scattering towards the
+// eye.
+//
+// Use:      #import volfog::lights::{light_attenuation, spot_factor, fog_light_inscatter, ...}
+// Defines:  none
+// Units:    positions in metres; a light's colour is its intensity (illuminance at 1 m),
+//           the sun's colour its illuminance; results are radiance scattered per unit
+//           sigma_s (multiply by sigma_s to get W / (sr m^3)).
+// Reference: Wronski 2014, "Density estimation and volume lighting" (main light with ESM
+//           shadow, ambient, loop over point lights marked as affecting the atmosphere),
+//           "Ambient / GI support" (SH product with the HG zonal expansion),
+//           "Deferred-like light injection" (bounds test per light).
+#define_import_path volfog::lights
+
+#import volfog::types::{DirectionalLight, FogLight}
+#import volfog::phase::{phase_hg, phase_hg_sh_l1, phase_sh_l1_radiance, phase_two_color}
+
+// Inverse-square falloff with a smooth range window:
+// saturate(1 - (d / range)^4)^2 / max(d^2, radius^2). Finite for every d >= 0,
+// including d = 0 (the source radius bounds it), and 0 at and beyond the range.
+fn light_attenuation(distance: f32, range: f32, radius: f32) -> f32 {
+    let x = distance / max(range, 1e-6);
+    let x2 = x * x;
+    let window = clamp(1.0 - x2 * x2, 0.0, 1.0);
+    let r = max(radius, 1e-4);
+    return window * window / max(distance * distance, r * r);
+}
+
+// Spot cone falloff: smoothstep between the outer and inner cone cosines of the angle
+// between the spot axis and the direction from the light to the point. A light with
+// cos_outer <= -1 is a point light (factor 1).
+fn spot_factor(cos_angle: f32, cos_outer: f32, cos_inner: f32) -> f32 {
+    if cos_outer <= -1.0 {
+        return 1.0;
+    }
+    return smoothstep(cos_outer, max(cos_inner, cos_outer + 1e-4), cos_angle);
+}
+
+// Whether a light's range sphere touches a sphere of the given centre and radius
+// (a block of froxels): lights that fail this test cost nothing.
+fn light_touches_sphere(light: FogLight, center: vec3<f32>, radius: f32) -> bool {
+    let d = light.position - center;
+    let r = light.range + radius;
+    return dot(d, d) <= r * r;
+}
+
+// Radiance scattered towards the eye per unit sigma_s by a point or spot light at a
+// world position; view_dir is the unit direction from the eye to the point, g the HG
+// mean cosine.
+fn fog_light_inscatter(light: FogLight, world: vec3<f32>, view_dir: vec3<f32>, g: f32) -> vec3<f32> {
+    let offset = light.position - world;
+    let distance = length(offset);
+    // At the light's own position the direction is undefined; any unit vector will do
+    // because the phase is then multiplied by the bounded attenuation.
+    let to_light = select(view_dir, offset / distance, distance > 1e-6);
+    let attenuation = light_attenuation(distance, light.range, light.radius);
+    let spot = spot_factor(dot(-to_light, light.direction), light.cos_outer, light.cos_inner);
+    let phase = phase_hg(dot(view_dir, to_light), g);
+    return light.color * (light.fog_intensity * attenuation * spot * phase);
+}
+
+// Radiance scattered towards the eye per unit sigma_s by the directional light with
+// visibility `shadow` in [0, 1], HG phase.
+fn sun_inscatter(sun: DirectionalLight, shadow: f32, view_dir: vec3<f32>, g: f32) -> vec3<f32> {
+    return sun.color * (sun.fog_intensity * shadow * phase_hg(dot(view_dir, sun.direction), g));
+}
+
+// As sun_inscatter with AC4's art-driven two-colour phase instead of HG.
+fn sun_inscatter_two_color(sun: DirectionalLight, shadow: f32, view_dir: vec3<f32>) -> vec3<f32> {
+    let tint = phase_two_color(dot(view_dir, sun.direction), sun.toward_tint, sun.away_tint);
+    return sun.color * tint * (sun.fog_intensity * shadow);
+}
+
+// Radiance scattered towards the eye per unit sigma_s by ambient light given as L1 SH
+// of its incoming radiance, with the HG phase rotated to the view direction: one dot
+// product per channel (Wronski 2014, bonus slide).
+fn ambient_inscatter(sh_r: vec4<f32>, sh_g: vec4<f32>, sh_b: vec4<f32>, view_dir: vec3<f32>, g: f32) -> vec3<f32> {
+    return max(phase_sh_l1_radiance(phase_hg_sh_l1(view_dir, g), sh_r, sh_g, sh_b), vec3<f32>(0.0));
+}
