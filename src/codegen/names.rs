@@ -129,6 +129,9 @@ pub fn make_readable(module: &mut naga::Module, variant: &str) -> Result<(), Cod
         }
     }
     for (item, name) in items.iter().zip(chosen) {
+        if item.qualified.is_none() && name == item.plain {
+            continue;
+        }
         match item.slot {
             Slot::Type(h) => {
                 let inner = module.types[h].inner.clone();
