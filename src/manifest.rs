@@ -96,13 +96,19 @@ macro_rules! pass {
 pub const MODULES: &[ModuleSource] = &[
     module!("types"),
     module!("froxel"),
+    module!("noise"),
     module!("phase"),
     module!("scan"),
     module!("apply"),
+    module!("hull"),
     module!("bindings"),
     module!("density"),
     module!("lights"),
     module!("esm"),
+    module!("height_fog"),
+    module!("fog_volume"),
+    module!("lightning"),
+    module!("soft_particles"),
 ];
 
 /// Passes (entry-point files) and their define axes.
@@ -144,6 +150,22 @@ pub const PASSES: &[PassSource] = &[
                 ceil(height / 64) x width x cascades."
     ),
     pass!(
+        "inject",
+        axes: &[
+            Axis::Flag("VOLFOG_ESM_LOG_SPACE"),
+            Axis::Flag("VOLFOG_INJECT_JITTER"),
+            Axis::Flag("VOLFOG_INJECT_TWO_COLOR_PHASE"),
+            Axis::Flag("VOLFOG_INJECT_DENSITY_TEXTURE"),
+        ],
+        values: &[ValueDefine { name: "VOLFOG_INJECT_NOISE_OCTAVES", min: 1, max: 8, default: 1 }],
+        fixed: &[],
+        usage: "Dispatch ceil(size.x / 4) x ceil(size.y / 4) x ceil(size.z / 4) workgroups \
+                after the ESM passes. The light buffer holds light_count FogLight elements \
+                (64-byte stride), the local volume buffer local_volume_count LocalVolume \
+                elements (80-byte stride); bind at least one element each. The density \
+                sampler (binding 10) is linear with repeat addressing."
+    ),
+    pass!(
         "temporal",
         axes: &[Axis::Flag("VOLFOG_INJECT_JITTER")],
         values: &[],
@@ -151,6 +173,32 @@ pub const PASSES: &[PassSource] = &[
         usage: "Dispatch ceil(size.x / 4) x ceil(size.y / 4) x ceil(size.z / 4) workgroups \
                 after inject; ping-pong the stabilised volume with the history. The sampler \
                 (binding 4) is linear with clamp-to-edge addressing."
+    ),
+    pass!(
+        "hull_thickness",
+        axes: &[],
+        values: &[],
+        fixed: &[],
+        usage: "Draw each hull's triangle list (every face) into a float target cleared to 0, \
+                the size of the scene depth buffer. Vertex buffer 0: stride 12, location 0 \
+                = world position (Float32x3, offset 0; HLSL semantic LOC0; MSL [[attribute(0)]] \
+                from a vertex-descriptor buffer index other than 0, which holds the uniform); \
+                faces wound counter-clockwise seen from outside. Primitive: TriangleList, front face Ccw, cull mode none; no \
+                depth-stencil attachment (depth test off). Target format Rgba16Float (with \
+                FogHull.reference and quantum set from the hull's bounds) or Rgba32Float \
+                where FLOAT32_BLENDABLE is available (quantum 0). Blend colour and alpha: \
+                src * One + dst * One (add). Binding 1 is the scene depth buffer, bound as \
+                unfilterable float."
+    ),
+    pass!(
+        "hull_composite",
+        axes: &[],
+        values: &[],
+        fixed: &[],
+        usage: "After hull_thickness, draw 3 vertices without vertex buffers onto the lit \
+                colour target (load, no depth attachment). Blend colour: src * One + dst * \
+                SrcAlpha (add); alpha: src * Zero + dst * One (add). Binding 1 is the \
+                hull_thickness target, bound as unfilterable float."
     ),
 ];
 

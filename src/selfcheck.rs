@@ -274,6 +274,17 @@ pub fn depth_texture(
     height: u32,
     values: &[f32],
 ) -> Result<wgpu::Texture, GpuError> {
+    depth_array_texture(gpu, width, height, &[values])
+}
+
+/// Writes one slice of depth values per layer into a Depth32Float 2D array texture
+/// (one layer is a plain 2D texture).
+pub fn depth_array_texture(
+    gpu: &Gpu,
+    width: u32,
+    height: u32,
+    layers: &[&[f32]],
+) -> Result<wgpu::Texture, GpuError> {
     const WRITE_DEPTH: &str = r#"
 @group(0) @binding(0) var values: texture_2d<f32>;
 @vertex fn vs(@builtin(vertex_index) i: u32) -> @builtin(position) vec4<f32> {
@@ -287,7 +298,7 @@ pub fn depth_texture(
     let extent = wgpu::Extent3d {
         width,
         height,
-        depth_or_array_layers: 1,
+        depth_or_array_layers: layers.len() as u32,
     };
     let texture = |format, usage| {
         gpu.device.create_texture(&wgpu::TextureDescriptor {
@@ -304,16 +315,6 @@ pub fn depth_texture(
     let source = texture(
         wgpu::TextureFormat::R32Float,
         wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
-    );
-    gpu.queue.write_texture(
-        source.as_image_copy(),
-        bytemuck::cast_slice(values),
-        wgpu::TexelCopyBufferLayout {
-            offset: 0,
-            bytes_per_row: Some(width * 4),
-            rows_per_image: Some(height),
-        },
-        extent,
     );
     let depth = texture(
         wgpu::TextureFormat::Depth32Float,
@@ -350,17 +351,49 @@ pub fn depth_texture(
                 cache: None,
             })
     })?;
-    let bind_group = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
-        label: Some("write depth"),
-        layout: &pipeline.get_bind_group_layout(0),
-        entries: &[wgpu::BindGroupEntry {
-            binding: 0,
-            resource: wgpu::BindingResource::TextureView(&source.create_view(&Default::default())),
-        }],
-    });
-    let view = depth.create_view(&Default::default());
     let mut encoder = gpu.device.create_command_encoder(&Default::default());
-    {
+    for (layer, values) in layers.iter().enumerate() {
+        let layer = layer as u32;
+        gpu.queue.write_texture(
+            wgpu::TexelCopyTextureInfo {
+                texture: &source,
+                mip_level: 0,
+                origin: wgpu::Origin3d {
+                    x: 0,
+                    y: 0,
+                    z: layer,
+                },
+                aspect: wgpu::TextureAspect::All,
+            },
+            bytemuck::cast_slice(values),
+            wgpu::TexelCopyBufferLayout {
+                offset: 0,
+                bytes_per_row: Some(width * 4),
+                rows_per_image: Some(height),
+            },
+            wgpu::Extent3d {
+                width,
+                height,
+                depth_or_array_layers: 1,
+            },
+        );
+        let layer_view = |t: &wgpu::Texture| {
+            t.create_view(&wgpu::TextureViewDescriptor {
+                dimension: Some(wgpu::TextureViewDimension::D2),
+                base_array_layer: layer,
+                array_layer_count: Some(1),
+                ..Default::default()
+            })
+        };
+        let bind_group = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("write depth"),
+            layout: &pipeline.get_bind_group_layout(0),
+            entries: &[wgpu::BindGroupEntry {
+                binding: 0,
+                resource: wgpu::BindingResource::TextureView(&layer_view(&source)),
+            }],
+        });
+        let view = layer_view(&depth);
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("write depth"),
             color_attachments: &[],
@@ -382,6 +415,97 @@ pub fn depth_texture(
     }
     gpu.queue.submit([encoder.finish()]);
     Ok(depth)
+}
+
+/// Runs the ESM passes (downsample, blur x, blur y) over a cascaded shadow map given
+/// as depth layers of `4 * size` texels per side, and returns the filtered ESM layers.
+pub fn run_esm(
+    gpu: &Gpu,
+    log_space: bool,
+    blur_radius: u32,
+    exponent: f32,
+    depth_layers: &[crate::cpu::esm::Layer],
+) -> Result<Vec<crate::cpu::esm::Layer>, GpuError> {
+    use crate::pipeline::esm::EsmPasses;
+    let layers = depth_layers.len() as u32;
+    let full = depth_layers[0].width;
+    let size = full / 4;
+    let passes = EsmPasses::new(&gpu.device, log_space, blur_radius)
+        .map_err(|e| GpuError::Operation(e.to_string()))?;
+    let slices: Vec<&[f32]> = depth_layers.iter().map(|l| l.texels.as_slice()).collect();
+    let shadow = depth_array_texture(gpu, full, full, &slices)?;
+    let shadow_view = shadow.create_view(&wgpu::TextureViewDescriptor {
+        dimension: Some(wgpu::TextureViewDimension::D2Array),
+        aspect: wgpu::TextureAspect::DepthOnly,
+        ..Default::default()
+    });
+    let cascades = crate::uniforms::ShadowCascades {
+        exponent,
+        count: layers,
+        ..Default::default()
+    };
+    let cascade_buffer = uniform_buffer(
+        gpu,
+        "cascades",
+        &crate::uniforms::to_uniform_bytes(&cascades),
+    );
+    let esm_texture = |label| {
+        gpu.device.create_texture(&wgpu::TextureDescriptor {
+            label: Some(label),
+            size: wgpu::Extent3d {
+                width: size,
+                height: size,
+                depth_or_array_layers: layers,
+            },
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format: crate::pipeline::esm::ESM_FORMAT,
+            usage: wgpu::TextureUsages::STORAGE_BINDING
+                | wgpu::TextureUsages::TEXTURE_BINDING
+                | wgpu::TextureUsages::COPY_SRC,
+            view_formats: &[],
+        })
+    };
+    let (a, b) = (esm_texture("esm a"), esm_texture("esm b"));
+    let array = |t: &wgpu::Texture| {
+        t.create_view(&wgpu::TextureViewDescriptor {
+            dimension: Some(wgpu::TextureViewDimension::D2Array),
+            ..Default::default()
+        })
+    };
+    let (av, bv) = (array(&a), array(&b));
+    let groups = gpu.checked(|| {
+        (
+            passes.downsample_bind_group(&gpu.device, &cascade_buffer, &shadow_view, &av),
+            passes.blur_bind_group(&gpu.device, &av, &bv),
+            passes.blur_bind_group(&gpu.device, &bv, &av),
+        )
+    })?;
+    let mut encoder = gpu.device.create_command_encoder(&Default::default());
+    {
+        let mut pass = encoder.begin_compute_pass(&Default::default());
+        passes.encode_downsample(&mut pass, &groups.0, size, layers);
+    }
+    {
+        let mut pass = encoder.begin_compute_pass(&Default::default());
+        passes.encode_blur(&mut pass, &groups.1, 0, size, layers);
+    }
+    {
+        let mut pass = encoder.begin_compute_pass(&Default::default());
+        passes.encode_blur(&mut pass, &groups.2, 1, size, layers);
+    }
+    gpu.queue.submit([encoder.finish()]);
+    let raw = gpu.read_texture_raw(&a, 4)?;
+    let values: &[f32] = bytemuck::cast_slice(&raw);
+    Ok(values
+        .chunks_exact((size * size) as usize)
+        .map(|c| crate::cpu::esm::Layer {
+            width: size,
+            height: size,
+            texels: c.to_vec(),
+        })
+        .collect())
 }
 
 /// Runs the fullscreen apply pass on an `ApplyCase` into an rgba16float target

@@ -619,6 +619,9 @@ impl ShadowCascades {
             self.splits,
             "increasing finite depths > 0 m",
         )?;
+        if self.count == 0 {
+            return Ok(());
+        }
         if log_space {
             check(
                 self.exponent.is_finite() && self.exponent > 0.0 && self.exponent <= 1.0e4,
@@ -635,5 +638,379 @@ impl ShadowCascades {
             )?;
         }
         Ok(())
+    }
+}
+
+/// Largest radiance (linear, per channel) accepted for fog colours.
+pub const MAX_FOG_RADIANCE: f32 = 1.0e9;
+/// Largest entry of the linear part of a fog volume's world -> local matrix (volumes
+/// smaller than about a micrometre are rejected).
+pub const MAX_FOG_VOLUME_LOCAL_SCALE: f32 = 1.0e6;
+
+fn radiance3(v: Vec3) -> bool {
+    v.is_finite() && v.cmpge(Vec3::ZERO).all() && v.cmple(Vec3::splat(MAX_FOG_RADIANCE)).all()
+}
+
+/// Closed-form global height fog (WGSL `volfog::types::HeightFog`, used by
+/// `volfog::height_fog`): extinction `density * exp(-falloff * (dot(p, up) - base_height))`
+/// lit by `color` plus an optional sun lobe. `Default` is a placeholder for layout
+/// probes; build one with [`HeightFog::new`] (and [`HeightFog::with_sun`]).
+#[derive(Debug, Clone, Copy, PartialEq, Default, ShaderType)]
+pub struct HeightFog {
+    /// In-scattered radiance (linear rgb), [0, 1e9].
+    pub color: Vec3,
+    /// Extinction on the reference plane (1/m), [0, 1e3].
+    pub density: f32,
+    /// Unit axis the density falls along.
+    pub up: Vec3,
+    /// Falloff along `up` (1/m), [-1e3, 1e3].
+    pub falloff: f32,
+    /// Unit direction from the scene towards the sun.
+    pub sun_direction: Vec3,
+    /// Height (m along `up`) of the reference plane, |h| <= 1e9.
+    pub base_height: f32,
+    /// Sun light scattered by the fog (linear rgb, radiance * sr), [0, 1e9].
+    pub sun_color: Vec3,
+    /// HG mean cosine of the sun lobe, [-0.999, 0.999].
+    pub sun_g: f32,
+}
+
+impl HeightFog {
+    /// Height fog without a sun lobe. `up` is normalised (it must have unit length
+    /// within 1e-3).
+    pub fn new(
+        color: Vec3,
+        density: f32,
+        up: Vec3,
+        falloff: f32,
+        base_height: f32,
+    ) -> Result<Self, InvalidValue> {
+        use crate::cpu::height_fog::{FOG_DENSITY_LIMIT, FOG_FALLOFF_LIMIT, FOG_POSITION_LIMIT};
+        check(
+            radiance3(color),
+            "HeightFog.color",
+            color,
+            "each channel in [0, 1e9]",
+        )?;
+        check(
+            (0.0..=FOG_DENSITY_LIMIT).contains(&density),
+            "HeightFog.density",
+            density,
+            "0..=1000 1/m",
+        )?;
+        check(unit3(up), "HeightFog.up", up, "a unit vector")?;
+        check(
+            (-FOG_FALLOFF_LIMIT..=FOG_FALLOFF_LIMIT).contains(&falloff),
+            "HeightFog.falloff",
+            falloff,
+            "-1000..=1000 1/m",
+        )?;
+        check(
+            (-FOG_POSITION_LIMIT..=FOG_POSITION_LIMIT).contains(&base_height),
+            "HeightFog.base_height",
+            base_height,
+            "a height within +-1e9 m",
+        )?;
+        let up = up.normalize();
+        Ok(Self {
+            color,
+            density,
+            up,
+            falloff,
+            sun_direction: up,
+            base_height,
+            sun_color: Vec3::ZERO,
+            sun_g: 0.0,
+        })
+    }
+
+    /// Adds a Henyey-Greenstein sun lobe: `sun_color * HG(dot(view_dir, direction), g)`
+    /// is added to the in-scattered radiance. `direction` points towards the sun.
+    pub fn with_sun(self, direction: Vec3, sun_color: Vec3, g: f32) -> Result<Self, InvalidValue> {
+        check(
+            unit3(direction),
+            "HeightFog.sun_direction",
+            direction,
+            "a unit vector",
+        )?;
+        check(
+            radiance3(sun_color),
+            "HeightFog.sun_color",
+            sun_color,
+            "each channel in [0, 1e9]",
+        )?;
+        check(
+            (-0.999..=0.999).contains(&g),
+            "HeightFog.sun_g",
+            g,
+            "-0.999..=0.999",
+        )?;
+        Ok(Self {
+            sun_direction: direction.normalize(),
+            sun_color,
+            sun_g: g,
+            ..self
+        })
+    }
+
+    /// The uniform buffer bytes.
+    pub fn to_bytes(&self) -> Vec<u8> {
+        to_uniform_bytes(self)
+    }
+}
+
+/// An analytic fog volume (WGSL `volfog::types::FogVolume`, used by
+/// `volfog::fog_volume`): a box or ellipsoid ray traced per pixel, filled with
+/// `density * exp(-falloff * (dot(p - center, gradient) - offset))`. `Default` is a
+/// placeholder for layout probes; build one with [`FogVolume::new`].
+#[derive(Debug, Clone, Copy, PartialEq, Default, ShaderType)]
+pub struct FogVolume {
+    /// World -> local transform (affine); the shape is the unit box or sphere there.
+    pub local_from_world: Mat4,
+    /// In-scattered radiance (linear rgb), [0, 1e9].
+    pub color: Vec3,
+    /// Extinction on the gradient's reference plane (1/m), [0, 1e3].
+    pub density: f32,
+    /// Unit world direction the density falls along.
+    pub gradient: Vec3,
+    /// Falloff along `gradient` (1/m), [-1e3, 1e3]; 0 is uniform.
+    pub falloff: f32,
+    /// World position of the local origin (m).
+    pub center: Vec3,
+    /// Offset (m) of the reference plane from `center` along `gradient`.
+    pub offset: f32,
+    /// 0 box, 1 ellipsoid ([`VolumeShape`]).
+    pub shape: u32,
+}
+
+impl FogVolume {
+    /// A volume of uniform fog covering `world_from_local` applied to the unit shape
+    /// (an affine transform: the box `[-1, 1]^3` or the unit sphere become a box or an
+    /// ellipsoid of any size, orientation and position).
+    pub fn new(
+        world_from_local: Mat4,
+        shape: VolumeShape,
+        color: Vec3,
+        density: f32,
+    ) -> Result<Self, InvalidValue> {
+        use crate::cpu::height_fog::{FOG_DENSITY_LIMIT, FOG_POSITION_LIMIT};
+        let affine = world_from_local.row(3) == glam::Vec4::W;
+        check(
+            world_from_local.is_finite() && affine && world_from_local.determinant() != 0.0,
+            "FogVolume.world_from_local",
+            world_from_local,
+            "a finite, invertible affine transform (last row 0, 0, 0, 1)",
+        )?;
+        let local_from_world = Mat4::from(glam::Affine3A::from_mat4(world_from_local).inverse());
+        check(
+            local_from_world.is_finite()
+                && glam::Mat3::from_mat4(local_from_world)
+                    .to_cols_array()
+                    .iter()
+                    .all(|m| m.abs() <= MAX_FOG_VOLUME_LOCAL_SCALE),
+            "FogVolume.world_from_local",
+            world_from_local,
+            "an inverse whose linear part has entries within +-1e6 (volumes larger than \
+             about 1e-6 m)",
+        )?;
+        let center = world_from_local.w_axis.truncate();
+        check(
+            center.abs().max_element() <= FOG_POSITION_LIMIT,
+            "FogVolume.center",
+            center,
+            "a position within +-1e9 m",
+        )?;
+        check(
+            radiance3(color),
+            "FogVolume.color",
+            color,
+            "each channel in [0, 1e9]",
+        )?;
+        check(
+            (0.0..=FOG_DENSITY_LIMIT).contains(&density),
+            "FogVolume.density",
+            density,
+            "0..=1000 1/m",
+        )?;
+        Ok(Self {
+            local_from_world,
+            color,
+            density,
+            gradient: Vec3::Y,
+            falloff: 0.0,
+            center,
+            offset: 0.0,
+            shape: shape as u32,
+        })
+    }
+
+    /// Makes the density fall exponentially along the unit world direction `gradient`
+    /// with `falloff` (1/m); it equals `density` on the plane `offset` metres from the
+    /// centre along `gradient`.
+    pub fn with_gradient(
+        self,
+        gradient: Vec3,
+        falloff: f32,
+        offset: f32,
+    ) -> Result<Self, InvalidValue> {
+        use crate::cpu::height_fog::{FOG_FALLOFF_LIMIT, FOG_POSITION_LIMIT};
+        check(
+            unit3(gradient),
+            "FogVolume.gradient",
+            gradient,
+            "a unit vector",
+        )?;
+        check(
+            (-FOG_FALLOFF_LIMIT..=FOG_FALLOFF_LIMIT).contains(&falloff),
+            "FogVolume.falloff",
+            falloff,
+            "-1000..=1000 1/m",
+        )?;
+        check(
+            (-FOG_POSITION_LIMIT..=FOG_POSITION_LIMIT).contains(&offset),
+            "FogVolume.offset",
+            offset,
+            "an offset within +-1e9 m",
+        )?;
+        Ok(Self {
+            gradient: gradient.normalize(),
+            falloff,
+            offset,
+            ..self
+        })
+    }
+
+    /// The uniform buffer bytes.
+    pub fn to_bytes(&self) -> Vec<u8> {
+        to_uniform_bytes(self)
+    }
+}
+
+/// Largest extinction a fog hull accepts (1/m).
+pub const HULL_DENSITY_LIMIT: f32 = 1e3;
+/// Largest reference distance a fog hull accepts (m).
+pub const HULL_REFERENCE_LIMIT: f32 = 1e9;
+
+/// A fog hull: camera, depth range and medium (WGSL `volfog::types::FogHull`), the
+/// uniform of the `hull_thickness` and `hull_composite` passes. `Default` is a
+/// placeholder for layout probes: build one with [`FogHull::new`].
+///
+/// ```
+/// use glam::{Mat4, Vec3};
+/// use volfog::cpu::hull::depth_range;
+/// use volfog::uniforms::FogHull;
+///
+/// let proj = glam::camera::rh::proj::directx::perspective(1.0, 4.0 / 3.0, 0.1, 100.0);
+/// let eye = Vec3::new(0.0, 1.0, 5.0);
+/// let view = glam::camera::rh::view::look_at_mat4(eye, Vec3::ZERO, Vec3::Y);
+/// let hull = FogHull::new(proj, view, Vec3::splat(0.8), 0.5).unwrap();
+/// assert!((hull.camera_position - eye).length() < 1e-5);
+/// assert_eq!(hull.to_bytes().len(), 176);
+/// // For an rgba16float target: the depth range of the hull's bounding box.
+/// let (reference, quantum) = depth_range(eye, Vec3::splat(-1.0), Vec3::ONE, 4);
+/// let hull = hull.with_depth_range(reference, quantum).unwrap();
+/// assert_eq!(hull.reference, 4.0);
+/// assert!(hull.with_depth_range(-1.0, 0.0).is_err());
+/// assert!(hull.with_depth_range(1.0, 0.3).is_err());
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq, Default, ShaderType)]
+pub struct FogHull {
+    /// World -> clip (projection * view).
+    pub clip_from_world: glam::Mat4,
+    /// Inverse of the projection (clip -> view).
+    pub view_from_clip: glam::Mat4,
+    /// Camera position in world space (m).
+    pub camera_position: glam::Vec3,
+    /// Reference distance (m): a lower bound of the distance of every hull point.
+    pub reference: f32,
+    /// In-scattered colour (linear rgb).
+    pub color: glam::Vec3,
+    /// Extinction inside the hull (1/m).
+    pub density: f32,
+    /// Step of the split of each term for rgba16float targets (m, a power of two),
+    /// 0 for none.
+    pub quantum: f32,
+}
+
+impl FogHull {
+    /// Checks the values and builds the uniform with reference and quantum 0 (exact
+    /// with an rgba32float target; see [`FogHull::with_depth_range`] for
+    /// rgba16float). `view_from_world` must be rigid (rotation and translation).
+    pub fn new(
+        clip_from_view: glam::Mat4,
+        view_from_world: glam::Mat4,
+        color: glam::Vec3,
+        density: f32,
+    ) -> Result<Self, InvalidValue> {
+        check(
+            clip_from_view.is_finite() && clip_from_view.determinant().abs() > 0.0,
+            "FogHull.view_from_clip",
+            clip_from_view,
+            "the inverse of a finite, invertible perspective projection",
+        )?;
+        let rotation = glam::Mat3::from_mat4(view_from_world);
+        let rigid = view_from_world.is_finite()
+            && (rotation * rotation.transpose()).abs_diff_eq(glam::Mat3::IDENTITY, 1e-4)
+            && (rotation.determinant() - 1.0).abs() < 1e-4
+            && view_from_world.row(3).abs_diff_eq(glam::Vec4::W, 0.0);
+        check(
+            rigid,
+            "FogHull.clip_from_world",
+            view_from_world,
+            "projection * a rigid view_from_world (rotation and translation only)",
+        )?;
+        check(
+            color.is_finite() && color.cmpge(glam::Vec3::ZERO).all(),
+            "FogHull.color",
+            color,
+            "finite linear rgb >= 0",
+        )?;
+        check(
+            (0.0..=HULL_DENSITY_LIMIT).contains(&density),
+            "FogHull.density",
+            density,
+            "0..=1000 per metre",
+        )?;
+        Ok(Self {
+            clip_from_world: clip_from_view * view_from_world,
+            view_from_clip: clip_from_view.inverse(),
+            camera_position: view_from_world.inverse().w_axis.truncate(),
+            reference: 0.0,
+            color,
+            density,
+            quantum: 0.0,
+        })
+    }
+
+    /// The same hull with another depth range, as `volfog::cpu::hull::depth_range`
+    /// computes it from the hull's bounding box: `reference` (m, `0..=1e9`) a lower
+    /// bound of the distance from the camera of every point of the hull (0 is always
+    /// valid), `quantum` (m) 0 or a power of two in `2^-20..=2^20`.
+    pub fn with_depth_range(self, reference: f32, quantum: f32) -> Result<Self, InvalidValue> {
+        check(
+            (0.0..=HULL_REFERENCE_LIMIT).contains(&reference),
+            "FogHull.reference",
+            reference,
+            "0..=1e9 m, at most the distance of the nearest hull point",
+        )?;
+        let power_of_two = quantum.is_finite()
+            && (2f32.powi(-20)..=2f32.powi(20)).contains(&quantum)
+            && quantum.log2().fract() == 0.0;
+        check(
+            quantum == 0.0 || power_of_two,
+            "FogHull.quantum",
+            quantum,
+            "0 or a power of two in 2^-20..=2^20 m",
+        )?;
+        Ok(Self {
+            reference,
+            quantum,
+            ..self
+        })
+    }
+
+    /// The uniform buffer bytes.
+    pub fn to_bytes(&self) -> Vec<u8> {
+        to_uniform_bytes(self)
     }
 }

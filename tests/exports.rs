@@ -259,3 +259,28 @@ fn re_export_replaces_the_previous_export_whole() {
         "the manifest lists only the new export"
     );
 }
+
+#[test]
+fn bindings_keep_their_wgsl_names_in_every_target() {
+    let mut problems = Vec::new();
+    for v in volfog::shaders::variants() {
+        for e in v.entries {
+            let reflection = e.reflection();
+            for b in &reflection.bindings {
+                let n = &b.name;
+                let hlsl_ok = e.hlsl.contains(&format!("{n} : register("))
+                    || e.hlsl.contains(&format!("cbuffer {n} : register("))
+                    || e.hlsl.contains(&format!("static const SamplerState {n} ="));
+                let msl_ok = e.msl.contains(&format!(" {n} [["));
+                let glsl_ok = b.glsl.as_ref().is_none_or(|g| &g.name == n);
+                let wgsl_ok = e.wgsl.contains(&format!("var {n}:")) || e.wgsl.contains(&format!("> {n}:"));
+                for (target, ok) in [("hlsl", hlsl_ok), ("msl", msl_ok), ("glsl", glsl_ok), ("wgsl", wgsl_ok)] {
+                    if !ok {
+                        problems.push(format!("{} {}: binding {n} renamed in {target}", v.name, e.entry));
+                    }
+                }
+            }
+        }
+    }
+    assert!(problems.is_empty(), "{}", problems.join("\n"));
+}

@@ -98,6 +98,35 @@ macro_rules! measure {
 
 fn rust_layouts() -> BTreeMap<&'static str, Measured> {
     BTreeMap::from([
+        measure!(FogHull {
+            clip_from_world: Mat4,
+            view_from_clip: Mat4,
+            camera_position: Vec3,
+            reference: f32,
+            color: Vec3,
+            density: f32,
+            quantum: f32,
+        }),
+        measure!(HeightFog {
+            color: Vec3,
+            density: f32,
+            up: Vec3,
+            falloff: f32,
+            sun_direction: Vec3,
+            base_height: f32,
+            sun_color: Vec3,
+            sun_g: f32,
+        }),
+        measure!(FogVolume {
+            local_from_world: Mat4,
+            color: Vec3,
+            density: f32,
+            gradient: Vec3,
+            falloff: f32,
+            center: Vec3,
+            offset: f32,
+            shape: u32,
+        }),
         measure!(FogFrame {
             world_from_view: Mat4,
             prev_clip_from_world: Mat4,

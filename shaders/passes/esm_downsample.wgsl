@@ -14,13 +14,13 @@
 #import volfog::types::ShadowCascades
 #import volfog::esm::{esm_encode, esm_mean4, esm_merge}
 
-@group(0) @binding(0) var<uniform> cascades: ShadowCascades;
+@group(0) @binding(0) var<uniform> shadow_cascades: ShadowCascades;
 @group(0) @binding(1) var shadow_map: texture_2d_array<f32>;
 @group(0) @binding(2) var gather_sampler: sampler;
 @group(0) @binding(3) var esm_out: texture_storage_2d_array<r32float, write>;
 
 fn encode4(d: vec4<f32>) -> vec4<f32> {
-    let c = cascades.exponent;
+    let c = shadow_cascades.exponent;
     return vec4<f32>(esm_encode(d.x, c), esm_encode(d.y, c), esm_encode(d.z, c), esm_encode(d.w, c));
 }
 

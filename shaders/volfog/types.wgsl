@@ -149,3 +149,73 @@ struct ShadowCascades {
     // (larger values need VOLFOG_ESM_LOG_SPACE).
     exponent: f32,
 }
+
+// Closed-form global height fog (Wenzel 2007, eq. 2; volfog::height_fog). Extinction
+// f(p) = density * exp(-falloff * (dot(p, up) - base_height)), lit by a constant
+// radiance plus an optional Henyey-Greenstein sun lobe (sun_color = 0 disables it).
+struct HeightFog {
+    // In-scattered radiance of the fog (linear rgb), [0, 1e9].
+    color: vec3<f32>,
+    // Extinction on the plane dot(p, up) = base_height, 1/m, [0, 1e3].
+    density: f32,
+    // Unit axis the density falls along (any direction, e.g. +Y or +Z).
+    up: vec3<f32>,
+    // Falloff c along up, 1/m, [-1e3, 1e3]; > 0 thins upwards, 0 is uniform fog.
+    falloff: f32,
+    // Unit direction from the scene towards the sun.
+    sun_direction: vec3<f32>,
+    // Height h0 (m along up) where the extinction equals density, |h0| <= 1e9.
+    base_height: f32,
+    // Sun light scattered by the fog (linear rgb, radiance * sr), [0, 1e9]; the lobe
+    // adds sun_color * HG(dot(view_dir, sun_direction), sun_g) to color.
+    sun_color: vec3<f32>,
+    // HG mean cosine of the sun lobe, [-0.999, 0.999].
+    sun_g: f32,
+}
+
+// An analytic fog volume (Wenzel 2007, "Fog Volumes"; volfog::fog_volume): the unit box
+// [-1, 1]^3 (shape 0) or the unit sphere (shape 1) in local space, ray traced per pixel
+// and filled with exponential-gradient fog
+// f(p) = density * exp(-falloff * (dot(p - center, gradient) - offset)), lit by a
+// constant radiance.
+struct FogVolume {
+    // World -> local transform (affine): the volume's shape in local space.
+    local_from_world: mat4x4<f32>,
+    // In-scattered radiance of the fog (linear rgb), [0, 1e9].
+    color: vec3<f32>,
+    // Extinction on the gradient's reference plane, 1/m, [0, 1e3].
+    density: f32,
+    // Unit world-space direction the density falls along.
+    gradient: vec3<f32>,
+    // Falloff c along gradient, 1/m, [-1e3, 1e3]; 0 is uniform fog.
+    falloff: f32,
+    // World position of the local origin (the volume centre), m.
+    center: vec3<f32>,
+    // Offset (m) of the reference plane from center along gradient.
+    offset: f32,
+    // 0 box, 1 ellipsoid (any other value is treated as a box).
+    shape: u32,
+}
+
+// A fog hull (Boyd 2001): a closed mesh filled with homogeneous fog, drawn by the
+// hull_thickness pass and composited by hull_composite (see volfog::hull).
+struct FogHull {
+    // World -> clip (projection * view) of the camera; the view must be rigid
+    // (rotation and translation) so that distances stay in metres.
+    clip_from_world: mat4x4<f32>,
+    // Inverse of the projection (clip -> view), to turn scene depths into distances.
+    view_from_clip: mat4x4<f32>,
+    // Camera position in world space (m).
+    camera_position: vec3<f32>,
+    // Reference distance (m), >= 0: a lower bound of the distance from the camera of
+    // every point of the hull (0 is always valid); hull terms are stored relative to it.
+    reference: f32,
+    // In-scattered colour (linear rgb, >= 0): the colour of infinitely thick fog.
+    color: vec3<f32>,
+    // Extinction inside the hull (1/m), >= 0.
+    density: f32,
+    // Step (m) of the split of each term into a multiple of it and a remainder for
+    // rgba16float targets: a power of two with (crossings / 2) * depth extent <= 2048
+    // * quantum; 0 keeps terms whole (rgba32float targets).
+    quantum: f32,
+}

@@ -54,3 +54,41 @@ pub fn ray_scale(uv: Vec2, view_from_clip: Mat4) -> f32 {
     let p = view_from_ndc(Vec3::new(n.x, n.y, 0.5), view_from_clip);
     p.length() / p.z.abs().max(1e-30)
 }
+
+/// Radical inverse of `index` in `base` (Halton sequence), in [0, 1).
+pub fn halton(index: u32, base: u32) -> f32 {
+    let mut f = 1.0f32;
+    let mut r = 0.0f32;
+    let mut i = index;
+    let inv = 1.0 / base as f32;
+    while i > 0 {
+        f *= inv;
+        r += f * (i % base) as f32;
+        i /= base;
+    }
+    r
+}
+
+/// Sample offset inside a froxel for a frame: Halton (2, 3, 5) of `frame % 16 + 1`,
+/// minus 0.5 (froxel units).
+pub fn froxel_jitter(frame: u32) -> Vec3 {
+    let i = frame % 16 + 1;
+    Vec3::new(halton(i, 2), halton(i, 3), halton(i, 5)) - 0.5
+}
+
+/// View-space position of a point inside froxel `id` at `offset` from its centre.
+pub fn froxel_view_position(
+    id: glam::UVec3,
+    offset: Vec3,
+    size: glam::UVec3,
+    view_from_clip: Mat4,
+    near: f32,
+    far: f32,
+    curve: f32,
+) -> Vec3 {
+    let cell = (id.as_vec3() + 0.5 + offset) / size.as_vec3();
+    let depth = slice_depth(cell.z, near, far, curve);
+    let n = ndc_from_uv(Vec2::new(cell.x, cell.y));
+    let ray = view_from_ndc(Vec3::new(n.x, n.y, 0.5), view_from_clip);
+    ray * (depth / ray.z.abs().max(1e-30))
+}

@@ -5,6 +5,16 @@
 //! as how much fog lies between two points.
 
 pub mod apply;
+pub mod density;
+pub mod esm;
+pub mod fog_volume;
 pub mod froxel;
+pub mod height_fog;
+pub mod hull;
+pub mod inject;
+pub mod lightning;
+pub mod lights;
+pub mod noise;
 pub mod phase;
 pub mod scan;
+pub mod soft_particles;

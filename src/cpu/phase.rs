@@ -85,3 +85,8 @@ pub fn phase_hg_sh_l1(dir: Vec3, g: f32) -> Vec4 {
 pub fn phase_sh_l1_radiance(phase_sh: Vec4, sh_r: Vec4, sh_g: Vec4, sh_b: Vec4) -> Vec3 {
     Vec3::new(phase_sh.dot(sh_r), phase_sh.dot(sh_g), phase_sh.dot(sh_b))
 }
+
+/// AC4's art-driven two-colour phase: isotropic, tinted from `away` to `toward`.
+pub fn phase_two_color(cos_theta: f32, toward: Vec3, away: Vec3) -> Vec3 {
+    INV_4PI * away.lerp(toward, 0.5 + 0.5 * cos_theta)
+}

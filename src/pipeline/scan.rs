@@ -1,7 +1,9 @@
 //! The scan pass: integrates the scattering volume front to back into the
 //! integrated volume (`shaders/passes/scan.wgsl`).
 
-use super::{prebuilt_wgsl, storage_entry, texture_entry, uniform_entry};
+use super::{
+    bind_group, compute_pipeline, prebuilt_wgsl, storage_entry, texture_entry, uniform_entry,
+};
 use crate::cpu::scan::ScanStep;
 
 /// Workgroup size of the scan (x, y).
@@ -44,27 +46,13 @@ impl ScanPass {
 
     /// Compiles the pass.
     pub fn new(device: &wgpu::Device, step: ScanStep) -> Self {
-        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("volfog scan"),
-            entries: &Self::layout_entries(),
-        });
-        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-            label: Some(Self::variant(step)),
-            source: wgpu::ShaderSource::Wgsl(prebuilt_wgsl(Self::variant(step), "scan").into()),
-        });
-        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some("volfog scan"),
-            bind_group_layouts: &[Some(&layout)],
-            immediate_size: 0,
-        });
-        let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-            label: Some("volfog scan"),
-            layout: Some(&pipeline_layout),
-            module: &module,
-            entry_point: Some("scan"),
-            compilation_options: Default::default(),
-            cache: None,
-        });
+        let (layout, pipeline) = compute_pipeline(
+            device,
+            "volfog scan",
+            prebuilt_wgsl(Self::variant(step), "scan"),
+            "scan",
+            &Self::layout_entries(),
+        );
         Self { layout, pipeline }
     }
 
@@ -81,24 +69,16 @@ impl ScanPass {
         scattering: &wgpu::TextureView,
         integrated: &wgpu::TextureView,
     ) -> wgpu::BindGroup {
-        device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("volfog scan"),
-            layout: &self.layout,
-            entries: &[
-                wgpu::BindGroupEntry {
-                    binding: 0,
-                    resource: froxels.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 1,
-                    resource: wgpu::BindingResource::TextureView(scattering),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 2,
-                    resource: wgpu::BindingResource::TextureView(integrated),
-                },
+        bind_group(
+            device,
+            "volfog scan",
+            &self.layout,
+            &[
+                (0, froxels.as_entire_binding()),
+                (1, wgpu::BindingResource::TextureView(scattering)),
+                (2, wgpu::BindingResource::TextureView(integrated)),
             ],
-        })
+        )
     }
 
     /// Records the scan of a volume of `size` froxels (x, y).

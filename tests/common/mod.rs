@@ -54,3 +54,146 @@ pub fn run_f32(gpu: &Gpu, source: &str, inputs: &[f32], outputs: usize, count: u
 pub fn rel_err(got: f32, want: f32, floor: f32) -> f32 {
     (got - want).abs() / want.abs().max(floor)
 }
+
+/// A small froxel scene for pipeline tests: a camera, a sun with an optional slab
+/// occluder in its shadow map, and helpers to run `VolumetricFog` frames.
+pub mod scene {
+    use glam::{Mat4, UVec3, Vec3, Vec4};
+    use volfog::cpu::esm::Layer;
+    use volfog::gpu::Gpu;
+    use volfog::pipeline::fog::{cascade_projection, cascade_splits};
+    use volfog::pipeline::{FogConfig, FrameInputs, ShadowInputs, VolumetricFog};
+    use volfog::uniforms::ShadowCascades;
+
+    /// A horizontal slab occluder: x and z ranges (m), height of its top (m).
+    #[derive(Debug, Clone, Copy)]
+    pub struct Slab {
+        pub x: (f32, f32),
+        pub z: (f32, f32),
+        pub top: f32,
+    }
+
+    pub fn projection() -> Mat4 {
+        glam::camera::rh::proj::directx::perspective(60f32.to_radians(), 16.0 / 9.0, 0.1, 500.0)
+    }
+
+    /// Camera at (0, eye_height, 0) looking along -Z, pitched by `pitch` radians.
+    pub fn view(eye_height: f32, pitch: f32) -> Mat4 {
+        let dir = Vec3::new(0.0, pitch.sin(), -pitch.cos());
+        glam::camera::rh::view::look_to_mat4(Vec3::new(0.0, eye_height, 0.0), dir, Vec3::Y)
+    }
+
+    pub fn small_config() -> FogConfig {
+        FogConfig {
+            volume_size: UVec3::new(32, 18, 48),
+            near: 0.5,
+            far: 64.0,
+            slice_curve: 3.0,
+            esm_resolution: 128,
+            cascades: 2,
+            esm_exponent: 80.0,
+            max_lights: 8,
+            max_local_volumes: 4,
+            jitter: false,
+            temporal: false,
+            ..FogConfig::default()
+        }
+    }
+
+    /// Cascades for a sun straight overhead covering the camera's surroundings, and
+    /// the matching shadow-map depths of an optional slab.
+    pub fn overhead_sun(config: &FogConfig, slab: Option<Slab>) -> (ShadowCascades, Vec<Layer>) {
+        let up = Vec3::Y;
+        let mut cascades = ShadowCascades {
+            splits: cascade_splits(config.cascades, config.near, config.far, 0.5),
+            count: config.cascades,
+            exponent: config.esm_exponent,
+            ..Default::default()
+        };
+        let size = config.esm_resolution * 4;
+        let mut layers = Vec::new();
+        for i in 0..config.cascades as usize {
+            let half = 10.0 * (i as f32 + 1.0) * 3.5;
+            let m = cascade_projection(up, Vec3::new(0.0, 0.0, -half * 0.8), half, 60.0);
+            cascades.light_from_world[i] = m;
+            let inv = m.inverse();
+            let texels = (0..size * size)
+                .map(|t| {
+                    let (x, y) = (t % size, t / size);
+                    let u = (x as f32 + 0.5) / size as f32;
+                    let v = (y as f32 + 0.5) / size as f32;
+                    let world = inv.project_point3(Vec3::new(u * 2.0 - 1.0, 1.0 - v * 2.0, 0.5));
+                    match slab {
+                        Some(s)
+                            if (s.x.0..s.x.1).contains(&world.x)
+                                && (s.z.0..s.z.1).contains(&world.z) =>
+                        {
+                            m.project_point3(Vec3::new(world.x, s.top, world.z)).z
+                        }
+                        _ => 1.0,
+                    }
+                })
+                .collect();
+            layers.push(Layer {
+                width: size,
+                height: size,
+                texels,
+            });
+        }
+        (cascades, layers)
+    }
+
+    /// Runs `frames` frames (inputs from `inputs(frame)`) and returns the volumes read
+    /// after the last one: (scattering texture, integrated volume).
+    pub fn run_frames<'a>(
+        gpu: &Gpu,
+        fog: &mut VolumetricFog,
+        shadow: Option<&wgpu::TextureView>,
+        frames: u32,
+        mut inputs: impl FnMut(u32) -> FrameInputs<'a>,
+        mut each: impl FnMut(u32, &VolumetricFog),
+    ) {
+        for f in 0..frames {
+            fog.prepare(&gpu.queue, &inputs(f)).expect("valid inputs");
+            let mut encoder = gpu.device.create_command_encoder(&Default::default());
+            fog.encode(
+                &gpu.device,
+                &mut encoder,
+                &ShadowInputs { shadow_map: shadow },
+            );
+            gpu.queue.submit([encoder.finish()]);
+            each(f, fog);
+        }
+    }
+
+    pub fn read_volume(gpu: &Gpu, texture: &wgpu::Texture) -> Vec<Vec4> {
+        gpu.read_texture_rgba16f(texture).expect("readback")
+    }
+
+    pub fn shadow_view(texture: &wgpu::Texture) -> wgpu::TextureView {
+        texture.create_view(&wgpu::TextureViewDescriptor {
+            dimension: Some(wgpu::TextureViewDimension::D2Array),
+            aspect: wgpu::TextureAspect::DepthOnly,
+            ..Default::default()
+        })
+    }
+
+    pub fn read_esm(gpu: &Gpu, fog: &VolumetricFog) -> Vec<Layer> {
+        let t = fog.esm_texture();
+        let raw = gpu.read_texture_raw(t, 4).expect("readback");
+        let values: &[f32] = bytemuck::cast_slice(&raw);
+        let s = t.size();
+        values
+            .chunks_exact((s.width * s.height) as usize)
+            .map(|c| Layer {
+                width: s.width,
+                height: s.height,
+                texels: c.to_vec(),
+            })
+            .collect()
+    }
+
+    pub fn index(size: UVec3, x: u32, y: u32, z: u32) -> usize {
+        ((z * size.y + y) * size.x + x) as usize
+    }
+}

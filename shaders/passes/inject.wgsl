@@ -1,0 +1,138 @@
+// Pass inject — density and in-scattered light of every froxel in one compute pass
+// (Wronski 2014, "Density estimation and volume lighting", as in Assassin's Creed 4).
+//
+// Dispatch: ceil(size.x / 4) x ceil(size.y / 4) x ceil(size.z / 4) workgroups of 4 x 4 x 4.
+// Output: rgb = sigma_s * L_in (radiance scattered towards the eye per metre),
+//         a = sigma_t (1/m), written to a write-only rgba16float 3D texture.
+// Bindings (group 0):
+//   0  uniform Froxels            1  uniform FogFrame         2  uniform FogMedium
+//   3  uniform FogLighting        4  uniform ShadowCascades
+//   5  texture_2d_array<f32>: filtered ESM, one layer per cascade (R32Float, textureLoad)
+//   6  storage, read: array<FogLight> (point and spot lights)
+//   7  storage, read: array<LocalVolume>
+//   8  texture_storage_3d<rgba16float, write>: the scattering volume
+//   9  texture_3d<f32>: density texture (VOLFOG_INJECT_DENSITY_TEXTURE only)
+//  10  sampler, linear, repeat (VOLFOG_INJECT_DENSITY_TEXTURE only)
+// Lights are culled per workgroup: the lights whose range touches the block's bounding
+// sphere are gathered in workgroup memory (at most 64), so distant lights cost nothing.
+// Defines:
+//   VOLFOG_INJECT_JITTER            sample each froxel at FogFrame.jitter instead of its centre
+//   VOLFOG_INJECT_TWO_COLOR_PHASE   AC4's two-colour sun phase instead of Henyey-Greenstein
+//   VOLFOG_INJECT_DENSITY_TEXTURE   multiply the density by a user 3D texture (r channel)
+//   VOLFOG_INJECT_NOISE_OCTAVES=N   fbm octaves, 1..=8 (default 1, as in the seed)
+//   VOLFOG_ESM_LOG_SPACE            the ESM holds log-space values (see volfog::esm)
+
+#import volfog::types::{Froxels, FogFrame, FogMedium, FogLighting, ShadowCascades, FogLight, LocalVolume}
+#import volfog::froxel::froxel_view_position
+#import volfog::noise::noise_animated
+#import volfog::density::{medium_extinction, local_volume_density}
+#import volfog::esm::esm_shadow
+#import volfog::lights::{light_touches_sphere, fog_light_inscatter, sun_inscatter, sun_inscatter_two_color, ambient_inscatter}
+
+@group(0) @binding(0) var<uniform> froxels: Froxels;
+@group(0) @binding(1) var<uniform> frame: FogFrame;
+@group(0) @binding(2) var<uniform> fog_medium: FogMedium;
+@group(0) @binding(3) var<uniform> fog_lighting: FogLighting;
+@group(0) @binding(4) var<uniform> shadow_cascades: ShadowCascades;
+@group(0) @binding(5) var esm_array: texture_2d_array<f32>;
+@group(0) @binding(6) var<storage, read> lights: array<FogLight>;
+@group(0) @binding(7) var<storage, read> local_volumes: array<LocalVolume>;
+@group(0) @binding(8) var scattering: texture_storage_3d<rgba16float, write>;
+#ifdef VOLFOG_INJECT_DENSITY_TEXTURE
+@group(0) @binding(9) var density_texture: texture_3d<f32>;
+@group(0) @binding(10) var density_sampler: sampler;
+#endif
+
+const NOISE_OCTAVES: u32 = #{VOLFOG_INJECT_NOISE_OCTAVES}u;
+const TILE_LIGHTS: u32 = 64u;
+const HALF_MAX: f32 = 65504.0;
+
+var<workgroup> tile_lights: array<u32, 64>;
+var<workgroup> tile_count: atomic<u32>;
+
+fn world_of(id: vec3<u32>, offset: vec3<f32>) -> vec3<f32> {
+    let view = froxel_view_position(
+        id, offset, froxels.size, froxels.view_from_clip, froxels.near, froxels.far, froxels.curve);
+    return (frame.world_from_view * vec4<f32>(view, 1.0)).xyz;
+}
+
+@compute @workgroup_size(4, 4, 4)
+fn inject(
+    @builtin(global_invocation_id) id: vec3<u32>,
+    @builtin(local_invocation_index) local_index: u32,
+    @builtin(workgroup_id) group: vec3<u32>,
+) {
+    // Bounding sphere of this 4 x 4 x 4 block of froxels (corners of its first and
+    // last froxel, whole-froxel extent so every jittered sample is inside).
+    let first = group * 4u;
+    let last = min(first + 3u, froxels.size - 1u);
+    let c0 = world_of(first, vec3<f32>(-0.5));
+    let c1 = world_of(last, vec3<f32>(0.5));
+    let c2 = world_of(vec3<u32>(first.xy, last.z), vec3<f32>(-0.5, -0.5, 0.5));
+    let c3 = world_of(vec3<u32>(last.x, first.y, last.z), vec3<f32>(0.5, -0.5, 0.5));
+    let c4 = world_of(vec3<u32>(first.x, last.y, last.z), vec3<f32>(-0.5, 0.5, 0.5));
+    let center = 0.5 * (c0 + c1);
+    let radius = max(max(distance(center, c0), distance(center, c1)),
+                     max(distance(center, c2), max(distance(center, c3), distance(center, c4))));
+
+    if local_index == 0u {
+        atomicStore(&tile_count, 0u);
+    }
+    workgroupBarrier();
+    let light_count = min(fog_lighting.light_count, arrayLength(&lights));
+    for (var i = local_index; i < light_count; i += 64u) {
+        if light_touches_sphere(lights[i], center, radius) {
+            let slot = atomicAdd(&tile_count, 1u);
+            if slot < TILE_LIGHTS {
+                tile_lights[slot] = i;
+            }
+        }
+    }
+    workgroupBarrier();
+    let tile_light_count = min(atomicLoad(&tile_count), TILE_LIGHTS);
+
+    if any(id >= froxels.size) {
+        return;
+    }
+#ifdef VOLFOG_INJECT_JITTER
+    let offset = frame.jitter;
+#else
+    let offset = vec3<f32>(0.0);
+#endif
+    let view = froxel_view_position(
+        id, offset, froxels.size, froxels.view_from_clip, froxels.near, froxels.far, froxels.curve);
+    let world = (frame.world_from_view * vec4<f32>(view, 1.0)).xyz;
+    let view_dir = normalize(world - frame.camera_position);
+
+    // Density.
+    let noise = noise_animated(world, fog_medium.noise_scale, fog_medium.wind, frame.time, NOISE_OCTAVES);
+#ifdef VOLFOG_INJECT_DENSITY_TEXTURE
+    let uvw = world * fog_medium.texture_scale + fog_medium.texture_offset - fog_medium.wind * frame.time * fog_medium.texture_scale;
+    let texture_factor = textureSampleLevel(density_texture, density_sampler, uvw, 0.0).r;
+#else
+    let texture_factor = 1.0;
+#endif
+    var sigma_t = medium_extinction(fog_medium, world, noise, texture_factor);
+    let volume_count = min(fog_medium.local_volume_count, arrayLength(&local_volumes));
+    for (var i = 0u; i < volume_count; i++) {
+        sigma_t += local_volume_density(local_volumes[i], world);
+    }
+    sigma_t = max(sigma_t, 0.0);
+
+    // Lighting.
+    let shadow = esm_shadow(esm_array, shadow_cascades, world, abs(view.z));
+#ifdef VOLFOG_INJECT_TWO_COLOR_PHASE
+    var light = sun_inscatter_two_color(fog_lighting.sun, shadow, view_dir);
+#else
+    var light = sun_inscatter(fog_lighting.sun, shadow, view_dir, fog_medium.phase_g);
+#endif
+    light += ambient_inscatter(fog_lighting.ambient_r, fog_lighting.ambient_g, fog_lighting.ambient_b, view_dir, fog_medium.phase_g);
+    for (var i = 0u; i < tile_light_count; i++) {
+        light += fog_light_inscatter(lights[tile_lights[i]], world, view_dir, fog_medium.phase_g);
+    }
+
+    // Clamped to the largest finite rgba16float value so no texel becomes Inf.
+    let sigma_s = fog_medium.albedo * sigma_t;
+    let texel = min(vec4<f32>(sigma_s * light, sigma_t), vec4<f32>(HALF_MAX));
+    textureStore(scattering, id, texel);
+}

@@ -1,0 +1,199 @@
+//! Mirror of `volfog::esm` and of the ESM passes: encoding, 4x downsampling, the
+//! separable box blur and the visibility lookup, in linear or log space.
+//!
+//! ```
+//! use volfog::cpu::esm::{esm_encode, esm_visibility};
+//! let c = 80.0;
+//! let occluder = esm_encode(0.5, c, false);
+//! assert_eq!(esm_visibility(occluder, 0.4, c, false), 1.0); // in front: lit
+//! assert!(esm_visibility(occluder, 0.5 + 3.0 / c, c, false) < 0.05); // 3 / c behind: shadowed
+//! ```
+
+use glam::{Mat4, Vec2, Vec3, Vec4};
+
+use crate::uniforms::ShadowCascades;
+
+/// Occluder value of one depth.
+pub fn esm_encode(depth: f32, exponent: f32, log_space: bool) -> f32 {
+    if log_space {
+        exponent * depth
+    } else {
+        (exponent * depth).exp()
+    }
+}
+
+/// Mean of four occluder values.
+pub fn esm_mean4(v: Vec4, log_space: bool) -> f32 {
+    if log_space {
+        let m = v.max_element();
+        m + ((v - m).exp().dot(Vec4::splat(0.25))).ln()
+    } else {
+        v.dot(Vec4::splat(0.25))
+    }
+}
+
+/// Mean of `na` values with mean `a` and `nb` values with mean `b`.
+pub fn esm_merge(a: f32, na: f32, b: f32, nb: f32, log_space: bool) -> f32 {
+    if log_space {
+        let m = a.max(b);
+        m + ((na * (a - m).exp() + nb * (b - m).exp()) / (na + nb)).ln()
+    } else {
+        (na * a + nb * b) / (na + nb)
+    }
+}
+
+/// Visibility of a receiver.
+pub fn esm_visibility(occluder: f32, receiver: f32, exponent: f32, log_space: bool) -> f32 {
+    if log_space {
+        (occluder - exponent * receiver)
+            .min(0.0)
+            .exp()
+            .clamp(0.0, 1.0)
+    } else {
+        (occluder * (-exponent * receiver).exp()).clamp(0.0, 1.0)
+    }
+}
+
+/// One layer of a 2D float image, row-major.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Layer {
+    /// Width in texels.
+    pub width: u32,
+    /// Height in texels.
+    pub height: u32,
+    /// Texels.
+    pub texels: Vec<f32>,
+}
+
+impl Layer {
+    /// Texel with clamp to edge.
+    pub fn at(&self, x: i32, y: i32) -> f32 {
+        let x = x.clamp(0, self.width as i32 - 1) as u32;
+        let y = y.clamp(0, self.height as i32 - 1) as u32;
+        self.texels[(y * self.width + x) as usize]
+    }
+}
+
+/// The downsample pass: each output texel is the mean of the encoded 4x4 block
+/// (as the four gathers compute it).
+pub fn downsample(depth: &Layer, exponent: f32, log_space: bool) -> Layer {
+    let (w, h) = (depth.width / 4, depth.height / 4);
+    let mut texels = Vec::with_capacity((w * h) as usize);
+    for y in 0..h as i32 {
+        for x in 0..w as i32 {
+            let quad = |ox: i32, oy: i32| {
+                let (bx, by) = (4 * x + ox, 4 * y + oy);
+                let v = Vec4::new(
+                    depth.at(bx, by + 1),
+                    depth.at(bx + 1, by + 1),
+                    depth.at(bx + 1, by),
+                    depth.at(bx, by),
+                );
+                esm_mean4(
+                    Vec4::from_array(v.to_array().map(|d| esm_encode(d, exponent, log_space))),
+                    log_space,
+                )
+            };
+            let top = esm_merge(quad(0, 0), 4.0, quad(2, 0), 4.0, log_space);
+            let bottom = esm_merge(quad(0, 2), 4.0, quad(2, 2), 4.0, log_space);
+            texels.push(esm_merge(top, 8.0, bottom, 8.0, log_space));
+        }
+    }
+    Layer {
+        width: w,
+        height: h,
+        texels,
+    }
+}
+
+/// One pass of the box blur along x (`axis = 0`) or y, `2 radius + 1` taps, clamped.
+pub fn blur(layer: &Layer, radius: i32, axis: u32, log_space: bool) -> Layer {
+    let mut texels = Vec::with_capacity(layer.texels.len());
+    for y in 0..layer.height as i32 {
+        for x in 0..layer.width as i32 {
+            let tap = |k: i32| {
+                if axis == 0 {
+                    layer.at(x - radius + k, y)
+                } else {
+                    layer.at(x, y - radius + k)
+                }
+            };
+            let mut mean = tap(0);
+            for k in 1..=2 * radius {
+                mean = esm_merge(mean, k as f32, tap(k), 1.0, log_space);
+            }
+            texels.push(mean);
+        }
+    }
+    Layer {
+        width: layer.width,
+        height: layer.height,
+        texels,
+    }
+}
+
+/// Bilinear occluder lookup at uv (clamp to edge).
+pub fn esm_occluder(layer: &Layer, uv: Vec2, log_space: bool) -> f32 {
+    let texel = uv * Vec2::new(layer.width as f32, layer.height as f32) - 0.5;
+    let base = texel.floor();
+    let f = texel - base;
+    let (x, y) = (base.x as i32, base.y as i32);
+    let v = Vec4::new(
+        layer.at(x, y),
+        layer.at(x + 1, y),
+        layer.at(x, y + 1),
+        layer.at(x + 1, y + 1),
+    );
+    let w = Vec4::new(
+        (1.0 - f.x) * (1.0 - f.y),
+        f.x * (1.0 - f.y),
+        (1.0 - f.x) * f.y,
+        f.x * f.y,
+    );
+    if log_space {
+        let m = v.max_element();
+        m + (v - m).exp().dot(w).max(1e-30).ln()
+    } else {
+        v.dot(w)
+    }
+}
+
+/// Cascade index of a view depth.
+pub fn esm_cascade(view_depth: f32, splits: Vec4, count: u32) -> u32 {
+    let mut i = 0;
+    while i < count && view_depth >= splits[i as usize] {
+        i += 1;
+    }
+    i
+}
+
+/// Shadow-map uv (v down) and depth of a world position.
+pub fn esm_shadow_coord(light_from_world: Mat4, world: Vec3) -> Vec3 {
+    let ndc = light_from_world.project_point3(world);
+    Vec3::new(ndc.x * 0.5 + 0.5, 0.5 - ndc.y * 0.5, ndc.z)
+}
+
+/// Visibility of the directional light at a world position and view depth.
+pub fn esm_shadow(
+    layers: &[Layer],
+    cascades: &ShadowCascades,
+    world: Vec3,
+    view_depth: f32,
+    log_space: bool,
+) -> f32 {
+    let i = esm_cascade(view_depth, cascades.splits, cascades.count);
+    if i >= cascades.count {
+        return 1.0;
+    }
+    let coord = esm_shadow_coord(cascades.light_from_world[i as usize], world);
+    if coord.x < 0.0 || coord.y < 0.0 || coord.x > 1.0 || coord.y > 1.0 || coord.z > 1.0 {
+        return 1.0;
+    }
+    let occluder = esm_occluder(&layers[i as usize], Vec2::new(coord.x, coord.y), log_space);
+    esm_visibility(
+        occluder,
+        coord.z.clamp(0.0, 1.0),
+        cascades.exponent,
+        log_space,
+    )
+}

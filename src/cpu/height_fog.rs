@@ -1,0 +1,137 @@
+//! Mirror of `volfog::height_fog`: closed-form global height fog (Wenzel 2007, eq. 2).
+//!
+//! The extinction `f(p) = b exp(-c (dot(p, up) - h0))` is integrated in closed form
+//! along a straight segment, so gameplay code can ask how much fog lies between two
+//! points without touching the GPU:
+//!
+//! ```
+//! use glam::Vec3;
+//! use volfog::cpu::height_fog::{height_fog, height_fog_transmittance};
+//! use volfog::uniforms::HeightFog;
+//!
+//! // Valley fog: 0.05 / m at sea level, halving every ~14 m of height (+Y up).
+//! let fog = HeightFog::new(Vec3::splat(0.6), 0.05, Vec3::Y, 0.05, 0.0).unwrap();
+//! let eye = Vec3::new(0.0, 2.0, 0.0);
+//! let target = Vec3::new(120.0, 40.0, 0.0);
+//! let seen = height_fog(&fog, eye, target - eye);
+//! // Fraction of the target's light that reaches the eye, and the fog colour added.
+//! let visibility = seen.w;
+//! assert!(visibility > 0.0 && visibility < 1.0);
+//! assert!((seen.x - 0.6 * (1.0 - visibility)).abs() < 1e-6);
+//!
+//! // The same query through the scalar core (b, c, h0, up, origin, segment).
+//! let t = height_fog_transmittance(0.05, 0.05, 0.0, Vec3::Y, eye, target - eye);
+//! assert_eq!(t, visibility);
+//!
+//! // Light crosses the same fog in either direction along a segment.
+//! let back = height_fog(&fog, target, eye - target);
+//! assert!((back.w - visibility).abs() < 1e-6);
+//! ```
+
+use glam::{Vec3, Vec4};
+
+use super::phase::phase_hg;
+use crate::uniforms::HeightFog;
+
+/// Below this `|x|` the mean `E(x)` uses its Taylor series.
+pub const FOG_SERIES_LIMIT: f32 = 1.0;
+/// Exponent arguments are clamped to `+-FOG_EXPONENT_LIMIT`.
+pub const FOG_EXPONENT_LIMIT: f32 = 80.0;
+/// Largest base density (1/m).
+pub const FOG_DENSITY_LIMIT: f32 = 1e3;
+/// Largest falloff magnitude (1/m).
+pub const FOG_FALLOFF_LIMIT: f32 = 1e3;
+/// Positions, segments and heights are clamped to `+-FOG_POSITION_LIMIT` metres.
+pub const FOG_POSITION_LIMIT: f32 = 1e9;
+/// Largest peak density (1/m).
+pub const FOG_PEAK_LIMIT: f32 = 1e20;
+
+/// `E(x) = (1 - exp(-x)) / x`, the mean of `exp(-x s)` over `s` in `[0, 1]`; `E(0) = 1`.
+/// Taylor series through `x^10 / 11!` for `|x| < 1`; `x` is clamped to `>= -80`.
+pub fn exp_segment_average(x_in: f32) -> f32 {
+    let x = x_in.max(-FOG_EXPONENT_LIMIT);
+    if x.abs() < FOG_SERIES_LIMIT {
+        let mut s = 1.0 - x / 11.0;
+        s = 1.0 - x / 10.0 * s;
+        s = 1.0 - x / 9.0 * s;
+        s = 1.0 - x / 8.0 * s;
+        s = 1.0 - x / 7.0 * s;
+        s = 1.0 - x / 6.0 * s;
+        s = 1.0 - x / 5.0 * s;
+        s = 1.0 - x / 4.0 * s;
+        s = 1.0 - x / 3.0 * s;
+        return 1.0 - x / 2.0 * s;
+    }
+    (1.0 - (-x).exp()) / x
+}
+
+/// Optical depth of `b exp(-c (dot(p, up) - h0))` along the segment from `origin` to
+/// `origin + segment` (m); `b`, `c` in 1/m, `up` a unit vector. Finite for every
+/// finite input; zero for a zero-length segment.
+pub fn height_fog_optical_depth(
+    b: f32,
+    c: f32,
+    h0: f32,
+    up: Vec3,
+    origin: Vec3,
+    segment: Vec3,
+) -> f32 {
+    let lim = Vec3::splat(FOG_POSITION_LIMIT);
+    let o = origin.clamp(-lim, lim);
+    let d = segment.clamp(-lim, lim);
+    let u = up.clamp(Vec3::NEG_ONE, Vec3::ONE);
+    let k = c.clamp(-FOG_FALLOFF_LIMIT, FOG_FALLOFF_LIMIT);
+    let h = o.dot(u) - h0.clamp(-FOG_POSITION_LIMIT, FOG_POSITION_LIMIT);
+    let x = k * d.dot(u);
+    let e0 = -k * h;
+    let e1 = e0 - x;
+    let e = e0.max(e1).clamp(-FOG_EXPONENT_LIMIT, FOG_EXPONENT_LIMIT);
+    let peak = (b.clamp(0.0, FOG_DENSITY_LIMIT) * e.exp()).min(FOG_PEAK_LIMIT);
+    peak * (d.length() * exp_segment_average(x.abs()))
+}
+
+/// Transmittance `exp(-OD)` along the segment (arguments as
+/// [`height_fog_optical_depth`]): the fraction of light that crosses it.
+pub fn height_fog_transmittance(
+    b: f32,
+    c: f32,
+    h0: f32,
+    up: Vec3,
+    origin: Vec3,
+    segment: Vec3,
+) -> f32 {
+    (-height_fog_optical_depth(b, c, h0, up, origin, segment)).exp()
+}
+
+/// Fog of optical depth `od` lit by a constant radiance: `(radiance (1 - T), T)`.
+pub fn fog_inscatter(radiance: Vec3, od_in: f32) -> Vec4 {
+    let od = od_in.max(0.0);
+    let t = (-od).exp();
+    let absorbed = if od < FOG_SERIES_LIMIT {
+        od * exp_segment_average(od)
+    } else {
+        1.0 - t
+    };
+    (radiance * absorbed).extend(t)
+}
+
+/// Height fog along the segment from `origin` to `origin + segment` (world space, m):
+/// rgb the in-scattered radiance, w the transmittance, as `volfog::apply` expects.
+pub fn height_fog(fog: &HeightFog, origin: Vec3, segment: Vec3) -> Vec4 {
+    let od = height_fog_optical_depth(
+        fog.density,
+        fog.falloff,
+        fog.base_height,
+        fog.up,
+        origin,
+        segment,
+    );
+    let d = segment.clamp(
+        Vec3::splat(-FOG_POSITION_LIMIT),
+        Vec3::splat(FOG_POSITION_LIMIT),
+    );
+    let view_dir = d / d.length().max(1e-30);
+    let cos_theta = view_dir.dot(fog.sun_direction).clamp(-1.0, 1.0);
+    let lobe = phase_hg(cos_theta, fog.sun_g.clamp(-0.999, 0.999));
+    fog_inscatter(fog.color + fog.sun_color * lobe, od)
+}

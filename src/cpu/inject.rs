@@ -1,0 +1,134 @@
+//! Mirror of the inject and temporal passes: the scattering of one froxel and the
+//! reprojected blend, composed from the module mirrors exactly as the passes compose
+//! the WGSL functions (light culling aside, which only skips lights whose range
+//! cannot reach the froxel).
+
+use glam::{UVec3, Vec3, Vec4};
+
+use super::apply::Volume;
+use super::density::{local_volume_density, medium_extinction};
+use super::esm::{esm_shadow, Layer};
+use super::froxel::{froxel_view_position, slice_coord, uv_from_ndc};
+use super::lights::{
+    ambient_inscatter, fog_light_inscatter, sun_inscatter, sun_inscatter_two_color,
+};
+use super::noise::noise_animated;
+use crate::pipeline::inject::InjectOptions;
+use crate::uniforms::{
+    FogFrame, FogLight, FogLighting, FogMedium, Froxels, LocalVolume, ShadowCascades,
+};
+
+/// Everything the inject pass reads.
+#[derive(Debug, Clone, Copy)]
+pub struct InjectInputs<'a> {
+    /// Froxel placement.
+    pub froxels: &'a Froxels,
+    /// Camera and time.
+    pub frame: &'a FogFrame,
+    /// The medium.
+    pub medium: &'a FogMedium,
+    /// Sun, ambient, light count.
+    pub lighting: &'a FogLighting,
+    /// Shadow cascades.
+    pub cascades: &'a ShadowCascades,
+    /// Filtered ESM layers (one per cascade).
+    pub esm: &'a [Layer],
+    /// Point and spot lights.
+    pub lights: &'a [FogLight],
+    /// Local volumes.
+    pub local_volumes: &'a [LocalVolume],
+    /// The variant.
+    pub options: InjectOptions,
+}
+
+/// World position of froxel `id`'s sample this frame.
+pub fn froxel_world_position(
+    froxels: &Froxels,
+    frame: &FogFrame,
+    id: UVec3,
+    jitter: bool,
+) -> (Vec3, f32) {
+    let offset = if jitter { frame.jitter } else { Vec3::ZERO };
+    let view = froxel_view_position(
+        id,
+        offset,
+        froxels.size,
+        froxels.view_from_clip,
+        froxels.near,
+        froxels.far,
+        froxels.curve,
+    );
+    (frame.world_from_view.transform_point3(view), view.z.abs())
+}
+
+/// The scattering of froxel `id`: rgb = sigma_s L_in, a = sigma_t.
+pub fn froxel_scattering(inputs: &InjectInputs<'_>, id: UVec3) -> Vec4 {
+    let (world, view_depth) =
+        froxel_world_position(inputs.froxels, inputs.frame, id, inputs.options.jitter);
+    let view_dir = (world - inputs.frame.camera_position).normalize();
+    let m = inputs.medium;
+    let noise = noise_animated(
+        world,
+        m.noise_scale,
+        m.wind,
+        inputs.frame.time,
+        inputs.options.noise_octaves,
+    );
+    let mut sigma_t = medium_extinction(m, world, noise, 1.0);
+    for v in inputs
+        .local_volumes
+        .iter()
+        .take(m.local_volume_count as usize)
+    {
+        sigma_t += local_volume_density(v, world);
+    }
+    let sigma_t = sigma_t.max(0.0);
+    let shadow = esm_shadow(
+        inputs.esm,
+        inputs.cascades,
+        world,
+        view_depth,
+        inputs.options.esm_log_space,
+    );
+    let l = inputs.lighting;
+    let mut light = if inputs.options.two_color_phase {
+        sun_inscatter_two_color(&l.sun, shadow, view_dir)
+    } else {
+        sun_inscatter(&l.sun, shadow, view_dir, m.phase_g)
+    };
+    light += ambient_inscatter(l.ambient_r, l.ambient_g, l.ambient_b, view_dir, m.phase_g);
+    for light_source in inputs.lights.iter().take(l.light_count as usize) {
+        light += fog_light_inscatter(light_source, world, view_dir, m.phase_g);
+    }
+    (m.albedo * sigma_t * light)
+        .extend(sigma_t)
+        .min(Vec4::splat(HALF_MAX))
+}
+
+/// Largest finite rgba16float value; the inject output is clamped to it.
+pub const HALF_MAX: f32 = 65504.0;
+
+/// The temporal pass for froxel `id`: `now` blended with the history reprojected
+/// through the previous view-projection (history as a filtered volume).
+pub fn temporal_blend(
+    froxels: &Froxels,
+    frame: &FogFrame,
+    id: UVec3,
+    now: Vec4,
+    history: &Volume,
+    jitter: bool,
+) -> Vec4 {
+    let (world, _) = froxel_world_position(froxels, frame, id, jitter);
+    let clip = frame.prev_clip_from_world * world.extend(1.0);
+    if frame.history_valid == 0 || clip.w <= 1e-6 {
+        return now;
+    }
+    let uv = uv_from_ndc(glam::Vec2::new(clip.x, clip.y) / clip.w);
+    let w = slice_coord(clip.w, froxels.near, froxels.far, froxels.curve);
+    let uvw = Vec3::new(uv.x, uv.y, w);
+    if uvw.cmplt(Vec3::ZERO).any() || uvw.cmpgt(Vec3::ONE).any() {
+        return now;
+    }
+    let past = history.sample(uvw);
+    now.lerp(past, frame.history_weight.clamp(0.0, 1.0))
+}

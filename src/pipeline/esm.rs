@@ -1,0 +1,174 @@
+//! The ESM passes: shadow map -> exponential shadow map (4x smaller), then the
+//! separable box blur (`shaders/passes/esm_downsample.wgsl`, `esm_blur.wgsl`).
+
+use super::{
+    bind_group, compute_pipeline, sampler_entry, storage_entry, texture_entry, uniform_entry,
+    variant_wgsl,
+};
+use crate::codegen::CodegenError;
+
+/// The ESM texel format.
+pub const ESM_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Float;
+
+/// Compiled ESM passes for one define set.
+#[derive(Debug)]
+pub struct EsmPasses {
+    downsample_layout: wgpu::BindGroupLayout,
+    downsample: wgpu::ComputePipeline,
+    blur_layout: wgpu::BindGroupLayout,
+    blur_x: wgpu::ComputePipeline,
+    blur_y: wgpu::ComputePipeline,
+    gather_sampler: wgpu::Sampler,
+}
+
+impl EsmPasses {
+    /// Layout of the downsample pass: 0 `ShadowCascades`, 1 shadow map (2D array,
+    /// unfilterable float), 2 non-filtering sampler, 3 ESM (R32Float storage array).
+    pub fn downsample_entries() -> [wgpu::BindGroupLayoutEntry; 4] {
+        [
+            uniform_entry(0, wgpu::ShaderStages::COMPUTE),
+            texture_entry(
+                1,
+                wgpu::ShaderStages::COMPUTE,
+                wgpu::TextureViewDimension::D2Array,
+                false,
+            ),
+            sampler_entry(2, wgpu::ShaderStages::COMPUTE, false),
+            storage_entry(3, wgpu::TextureViewDimension::D2Array, ESM_FORMAT),
+        ]
+    }
+
+    /// Layout of the blur passes: 0 source (2D array, unfilterable float), 1 target.
+    pub fn blur_entries() -> [wgpu::BindGroupLayoutEntry; 2] {
+        [
+            texture_entry(
+                0,
+                wgpu::ShaderStages::COMPUTE,
+                wgpu::TextureViewDimension::D2Array,
+                false,
+            ),
+            storage_entry(1, wgpu::TextureViewDimension::D2Array, ESM_FORMAT),
+        ]
+    }
+
+    /// Compiles the passes: log-space filtering or not, blur radius (11 taps = 5).
+    pub fn new(
+        device: &wgpu::Device,
+        log_space: bool,
+        blur_radius: u32,
+    ) -> Result<Self, CodegenError> {
+        let mut defines = Vec::new();
+        if log_space {
+            defines.push("VOLFOG_ESM_LOG_SPACE".to_string());
+        }
+        let downsample_wgsl = variant_wgsl("esm_downsample", &defines, "esm_downsample")?;
+        if blur_radius != 5 {
+            defines.push(format!("VOLFOG_ESM_BLUR_RADIUS={blur_radius}"));
+        }
+        let blur_x_wgsl = variant_wgsl("esm_blur", &defines, "esm_blur_x")?;
+        let blur_y_wgsl = variant_wgsl("esm_blur", &defines, "esm_blur_y")?;
+        let (downsample_layout, downsample) = compute_pipeline(
+            device,
+            "volfog esm_downsample",
+            &downsample_wgsl,
+            "esm_downsample",
+            &Self::downsample_entries(),
+        );
+        let (blur_layout, blur_x) = compute_pipeline(
+            device,
+            "volfog esm_blur_x",
+            &blur_x_wgsl,
+            "esm_blur_x",
+            &Self::blur_entries(),
+        );
+        let (_, blur_y) = compute_pipeline(
+            device,
+            "volfog esm_blur_y",
+            &blur_y_wgsl,
+            "esm_blur_y",
+            &Self::blur_entries(),
+        );
+        let gather_sampler = device.create_sampler(&wgpu::SamplerDescriptor {
+            label: Some("volfog esm gather"),
+            ..Default::default()
+        });
+        Ok(Self {
+            downsample_layout,
+            downsample,
+            blur_layout,
+            blur_x,
+            blur_y,
+            gather_sampler,
+        })
+    }
+
+    /// Bind group of the downsample pass.
+    pub fn downsample_bind_group(
+        &self,
+        device: &wgpu::Device,
+        cascades: &wgpu::Buffer,
+        shadow_map: &wgpu::TextureView,
+        esm: &wgpu::TextureView,
+    ) -> wgpu::BindGroup {
+        bind_group(
+            device,
+            "volfog esm_downsample",
+            &self.downsample_layout,
+            &[
+                (0, cascades.as_entire_binding()),
+                (1, wgpu::BindingResource::TextureView(shadow_map)),
+                (2, wgpu::BindingResource::Sampler(&self.gather_sampler)),
+                (3, wgpu::BindingResource::TextureView(esm)),
+            ],
+        )
+    }
+
+    /// Bind group of a blur pass from `source` into `target`.
+    pub fn blur_bind_group(
+        &self,
+        device: &wgpu::Device,
+        source: &wgpu::TextureView,
+        target: &wgpu::TextureView,
+    ) -> wgpu::BindGroup {
+        bind_group(
+            device,
+            "volfog esm_blur",
+            &self.blur_layout,
+            &[
+                (0, wgpu::BindingResource::TextureView(source)),
+                (1, wgpu::BindingResource::TextureView(target)),
+            ],
+        )
+    }
+
+    /// Records the downsample of `layers` cascades into an ESM of `size` texels.
+    pub fn encode_downsample(
+        &self,
+        pass: &mut wgpu::ComputePass<'_>,
+        group: &wgpu::BindGroup,
+        size: u32,
+        layers: u32,
+    ) {
+        pass.set_pipeline(&self.downsample);
+        pass.set_bind_group(0, group, &[]);
+        pass.dispatch_workgroups(size.div_ceil(8), size.div_ceil(8), layers);
+    }
+
+    /// Records one blur pass (`axis` 0: x, 1: y) over an ESM of `size` x `size`.
+    pub fn encode_blur(
+        &self,
+        pass: &mut wgpu::ComputePass<'_>,
+        group: &wgpu::BindGroup,
+        axis: u32,
+        size: u32,
+        layers: u32,
+    ) {
+        pass.set_pipeline(if axis == 0 {
+            &self.blur_x
+        } else {
+            &self.blur_y
+        });
+        pass.set_bind_group(0, group, &[]);
+        pass.dispatch_workgroups(size.div_ceil(64), size, layers);
+    }
+}
