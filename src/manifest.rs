@@ -167,7 +167,7 @@ pub const PASSES: &[PassSource] = &[
     ),
     pass!(
         "temporal",
-        axes: &[Axis::Flag("VOLFOG_INJECT_JITTER")],
+        axes: &[],
         values: &[],
         fixed: &[],
         usage: "Dispatch ceil(size.x / 4) x ceil(size.y / 4) x ceil(size.z / 4) workgroups \

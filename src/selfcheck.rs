@@ -171,7 +171,7 @@ pub fn cpu_scan(step: ScanStep, froxels: &Froxels, medium: &[Vec4]) -> Vec<Vec4>
                 );
                 let i = ((z * sy + y) * sx + x) as usize;
                 acc = cpu::scan::scan_step(acc, round_f16(medium[i]), (back - front) * scale, step);
-                out[i] = acc;
+                out[i] = acc.min(Vec4::splat(crate::cpu::inject::HALF_MAX));
                 front = back;
             }
         }

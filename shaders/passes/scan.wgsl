@@ -33,7 +33,8 @@ fn scan(@builtin(global_invocation_id) id: vec3<u32>) {
         let back = slice_depth(f32(k + 1u) / f32(slices), froxels.near, froxels.far, froxels.curve);
         let medium = textureLoad(scattering, vec3<u32>(id.xy, k), 0);
         acc = scan_step(acc, medium, (back - front) * scale);
-        textureStore(integrated, vec3<u32>(id.xy, k), acc);
+        // Clamped to the largest finite rgba16float value so no texel becomes Inf.
+        textureStore(integrated, vec3<u32>(id.xy, k), min(acc, vec4<f32>(65504.0)));
         front = back;
     }
 }

@@ -501,7 +501,7 @@ impl VolumetricFog {
         let size = config.volume_size;
         let esm_passes = EsmPasses::new(device, config.esm_log_space, config.esm_blur_radius)?;
         let inject = InjectPass::new(device, config.inject_options())?;
-        let temporal = TemporalPass::new(device, config.jitter);
+        let temporal = TemporalPass::new(device);
         let scan = ScanPass::new(device, config.scan_step);
         let apply = ApplyPass::new(device, config.apply_filtering, config.color_format);
 

@@ -33,17 +33,12 @@ impl TemporalPass {
         ]
     }
 
-    /// Compiles the pass; `jitter` must match the inject pass.
-    pub fn new(device: &wgpu::Device, jitter: bool) -> Self {
-        let variant = if jitter {
-            "temporal@INJECT_JITTER"
-        } else {
-            "temporal@default"
-        };
+    /// Compiles the pass.
+    pub fn new(device: &wgpu::Device) -> Self {
         let (layout, pipeline) = compute_pipeline(
             device,
             "volfog temporal",
-            prebuilt_wgsl(variant, "temporal"),
+            prebuilt_wgsl("temporal@default", "temporal"),
             "temporal",
             &Self::layout_entries(),
         );
