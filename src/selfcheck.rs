@@ -194,6 +194,8 @@ pub struct ApplyCase {
     pub depth: Vec<f32>,
     /// The integrated volume (x fastest).
     pub volume: Vec<Vec4>,
+    /// The analytic tail beyond the far plane, in view space.
+    pub tail: crate::uniforms::HeightFog,
 }
 
 impl ApplyCase {
@@ -239,6 +241,21 @@ impl ApplyCase {
             color,
             depth,
             volume,
+            tail: crate::uniforms::HeightFog::new(
+                Vec3::new(0.5, 0.6, 0.7),
+                0.01,
+                Vec3::Y,
+                0.05,
+                -2.0,
+            )
+            .and_then(|f| {
+                f.with_sun(
+                    Vec3::new(0.3, 0.5, -0.8).normalize(),
+                    Vec3::new(0.4, 0.3, 0.2),
+                    0.6,
+                )
+            })
+            .expect("valid tail"),
         }
     }
 
@@ -257,7 +274,12 @@ impl ApplyCase {
                     (y as f32 + 0.5) / self.height as f32,
                 );
                 let ndc = cpu::froxel::ndc_from_uv(uv).extend(self.depth[i]);
-                let fog = volume.fog(cpu::apply::fog_coord_from_ndc(ndc, &self.froxels));
+                let view = cpu::froxel::view_from_ndc(ndc, self.froxels.view_from_clip);
+                let fog = volume.fog(cpu::apply::fog_coord(uv, view.z.abs(), &self.froxels));
+                let fog = cpu::apply::fog_with_tail(
+                    fog,
+                    cpu::apply::fog_tail(&self.froxels, &self.tail, view),
+                );
                 let color = round_f16(self.color[i]);
                 out.push(cpu::apply::apply_fog(color.truncate(), fog).extend(color.w));
             }
@@ -514,6 +536,7 @@ pub fn run_apply(gpu: &Gpu, filtering: Filtering, case: &ApplyCase) -> Result<Ve
     let format = wgpu::TextureFormat::Rgba16Float;
     let pass = gpu.checked(|| ApplyPass::new(&gpu.device, filtering, format))?;
     let froxel_buffer = uniform_buffer(gpu, "froxels", &case.froxels.to_bytes());
+    let tail_buffer = uniform_buffer(gpu, "tail", &crate::uniforms::to_uniform_bytes(&case.tail));
     let volume = gpu.texture_3d_rgba16f("integrated", case.froxels.size.to_array(), &case.volume);
     let extent = wgpu::Extent3d {
         width: case.width,
@@ -553,6 +576,7 @@ pub fn run_apply(gpu: &Gpu, filtering: Filtering, case: &ApplyCase) -> Result<Ve
             &gpu.device,
             &froxel_buffer,
             &volume.create_view(&Default::default()),
+            &tail_buffer,
             &depth.create_view(&wgpu::TextureViewDescriptor {
                 aspect: wgpu::TextureAspect::DepthOnly,
                 ..Default::default()

@@ -724,6 +724,64 @@ impl HeightFog {
         })
     }
 
+    /// Checks every value as [`HeightFog::new`] and [`HeightFog::with_sun`] do.
+    pub fn validate(&self) -> Result<(), InvalidValue> {
+        Self::new(
+            self.color,
+            self.density,
+            self.up,
+            self.falloff,
+            self.base_height,
+        )?
+        .with_sun(self.sun_direction, self.sun_color, self.sun_g)
+        .map(|_| ())
+    }
+
+    /// No fog: density 0 (the apply tail is then empty).
+    pub fn none() -> Self {
+        Self {
+            color: Vec3::ZERO,
+            density: 0.0,
+            up: Vec3::Y,
+            falloff: 0.0,
+            sun_direction: Vec3::Y,
+            base_height: 0.0,
+            sun_color: Vec3::ZERO,
+            sun_g: 0.0,
+        }
+    }
+
+    /// The same fog expressed in the view space of `view_from_world` (a rigid
+    /// transform), as the apply tail expects: the up axis and sun direction rotated,
+    /// the base height measured from the camera.
+    pub fn to_view_space(&self, view_from_world: Mat4) -> Self {
+        let camera = view_from_world.inverse().w_axis.truncate();
+        Self {
+            up: view_from_world
+                .transform_vector3(self.up)
+                .normalize_or(Vec3::Y),
+            sun_direction: view_from_world
+                .transform_vector3(self.sun_direction)
+                .normalize_or(Vec3::Y),
+            base_height: self.base_height - camera.dot(self.up),
+            ..*self
+        }
+    }
+
+    /// The height fog matching a froxel medium's height profile (noise and local
+    /// volumes aside), lit by a constant radiance: use it as the apply tail so the
+    /// fog continues beyond the volume's far plane with the same density.
+    pub fn from_medium(medium: &FogMedium, color: Vec3) -> Self {
+        Self {
+            color,
+            density: medium.density,
+            up: medium.up,
+            falloff: medium.height_falloff,
+            base_height: medium.base_height,
+            ..Self::none()
+        }
+    }
+
     /// Adds a Henyey-Greenstein sun lobe: `sun_color * HG(dot(view_dir, direction), g)`
     /// is added to the in-scattered radiance. `direction` points towards the sun.
     pub fn with_sun(self, direction: Vec3, sun_color: Vec3, g: f32) -> Result<Self, InvalidValue> {

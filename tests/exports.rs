@@ -273,10 +273,19 @@ fn bindings_keep_their_wgsl_names_in_every_target() {
                     || e.hlsl.contains(&format!("static const SamplerState {n} ="));
                 let msl_ok = e.msl.contains(&format!(" {n} [["));
                 let glsl_ok = b.glsl.as_ref().is_none_or(|g| &g.name == n);
-                let wgsl_ok = e.wgsl.contains(&format!("var {n}:")) || e.wgsl.contains(&format!("> {n}:"));
-                for (target, ok) in [("hlsl", hlsl_ok), ("msl", msl_ok), ("glsl", glsl_ok), ("wgsl", wgsl_ok)] {
+                let wgsl_ok =
+                    e.wgsl.contains(&format!("var {n}:")) || e.wgsl.contains(&format!("> {n}:"));
+                for (target, ok) in [
+                    ("hlsl", hlsl_ok),
+                    ("msl", msl_ok),
+                    ("glsl", glsl_ok),
+                    ("wgsl", wgsl_ok),
+                ] {
                     if !ok {
-                        problems.push(format!("{} {}: binding {n} renamed in {target}", v.name, e.entry));
+                        problems.push(format!(
+                            "{} {}: binding {n} renamed in {target}",
+                            v.name, e.entry
+                        ));
                     }
                 }
             }

@@ -15,7 +15,7 @@ use wgpu::util::DeviceExt;
 /// groups, and the fog bind group at index 2.
 const LIT_SHADER: &str = r#"
 #import volfog::bindings
-#import volfog::apply::{fog_coord_from_view, fog_sample, apply_fog}
+#import volfog::apply::{fog_coord_from_view, fog_sample, fog_tail, fog_with_tail, apply_fog}
 
 struct View {
     clip_from_view: mat4x4<f32>,
@@ -53,7 +53,8 @@ fn fs(in: VertexOut) -> @location(0) vec4<f32> {
 #else
     let coord = fog_coord_from_view(in.view_pos, bindings::fog_froxels);
     let fog = fog_sample(bindings::fog_volume, bindings::fog_sampler, coord);
-    return vec4<f32>(apply_fog(lit, fog), material.base_color.a);
+    let tail = fog_tail(bindings::fog_froxels, bindings::fog_height, in.view_pos);
+    return vec4<f32>(apply_fog(lit, fog_with_tail(fog, tail)), material.base_color.a);
 #endif
 }
 "#;
@@ -84,8 +85,8 @@ fn lit_shader_composes_with_apply_and_validates() {
         .collect();
     assert_eq!(
         fog_globals.len(),
-        3,
-        "froxels, volume and sampler land in group 2"
+        4,
+        "froxels, volume, sampler and tail land in group 2"
     );
 }
 
@@ -138,6 +139,11 @@ fn forward_snippet_agrees_with_fullscreen_pass() {
         usage: wgpu::BufferUsages::UNIFORM,
     });
     let volume = gpu.texture_3d_rgba16f("integrated", froxels.size.to_array(), &case.volume);
+    let tail_buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+        label: Some("tail"),
+        contents: &volfog::uniforms::to_uniform_bytes(&case.tail),
+        usage: wgpu::BufferUsages::UNIFORM,
+    });
     let volume_view = volume.create_view(&Default::default());
 
     let uniform_layout = |vis| {
@@ -197,6 +203,10 @@ fn forward_snippet_agrees_with_fullscreen_pass() {
             wgpu::BindGroupEntry {
                 binding: 2,
                 resource: wgpu::BindingResource::Sampler(&sampler),
+            },
+            wgpu::BindGroupEntry {
+                binding: 3,
+                resource: tail_buffer.as_entire_binding(),
             },
         ],
     );
@@ -322,7 +332,13 @@ fn forward_snippet_agrees_with_fullscreen_pass() {
         aspect: wgpu::TextureAspect::DepthOnly,
         ..Default::default()
     });
-    let apply_group = apply.bind_group(device, &froxel_buffer, &volume_view, &depth_view);
+    let apply_group = apply.bind_group(
+        device,
+        &froxel_buffer,
+        &volume_view,
+        &tail_buffer,
+        &depth_view,
+    );
     let plain_view = plain.create_view(&Default::default());
     let mut encoder = device.create_command_encoder(&Default::default());
     {

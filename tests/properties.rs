@@ -118,7 +118,9 @@ fn pipeline_with_random_media_and_lights_is_finite_and_monotonic() {
     use common::scene::{index, projection, read_volume, small_config, view};
     use glam::{Mat4, UVec3};
     use volfog::pipeline::{FrameInputs, ShadowInputs, VolumetricFog};
-    use volfog::uniforms::{AmbientSh, DirectionalLight, FogLight, FogMedium, LocalVolume, VolumeShape};
+    use volfog::uniforms::{
+        AmbientSh, DirectionalLight, FogLight, FogMedium, LocalVolume, VolumeShape,
+    };
 
     let gpu = common::gpu();
     let config = volfog::pipeline::FogConfig {
@@ -128,41 +130,103 @@ fn pipeline_with_random_media_and_lights_is_finite_and_monotonic() {
         ..small_config()
     };
     let fog = std::cell::RefCell::new(VolumetricFog::new(&gpu.device, &config).unwrap());
-    let unit = || (-1.0f32..1.0, -1.0f32..1.0, -1.0f32..1.0).prop_map(|(x, y, z)| Vec3::new(x, y, z));
-    let light = (unit(), unit(), 0.1f32..50.0, 0.0f32..500.0, any::<bool>(), 1e-3f32..1.0).prop_map(|(p, d, range, power, spot, radius)| {
-        let position = Vec3::new(p.x * 20.0, 1.0 + p.y * 5.0, -20.0 + p.z * 20.0);
-        let mut l = if spot {
-            FogLight::spot(position, d.normalize_or(Vec3::NEG_Y), Vec3::splat(power), range, 0.2, 0.6)
-        } else {
-            FogLight::point(position, Vec3::splat(power), range)
-        };
-        l.radius = radius;
-        l
-    });
-    let medium = (0.0f32..0.5, 0.0f32..1.0, 0.0f32..=1.0, 0.01f32..2.0, -0.95f32..0.95, unit(), 0.0f32..=1.0).prop_map(
-        |(density, falloff, strength, scale, g, wind, albedo)| FogMedium {
-            density,
-            height_falloff: falloff,
-            noise_strength: strength,
-            noise_scale: scale,
-            phase_g: g,
-            wind: wind * 5.0,
-            albedo: Vec3::splat(albedo),
-            ..FogMedium::default()
-        },
+    let unit =
+        || (-1.0f32..1.0, -1.0f32..1.0, -1.0f32..1.0).prop_map(|(x, y, z)| Vec3::new(x, y, z));
+    let light = (
+        unit(),
+        unit(),
+        0.1f32..50.0,
+        0.0f32..500.0,
+        any::<bool>(),
+        1e-3f32..1.0,
+    )
+        .prop_map(|(p, d, range, power, spot, radius)| {
+            let position = Vec3::new(p.x * 20.0, 1.0 + p.y * 5.0, -20.0 + p.z * 20.0);
+            let mut l = if spot {
+                FogLight::spot(
+                    position,
+                    d.normalize_or(Vec3::NEG_Y),
+                    Vec3::splat(power),
+                    range,
+                    0.2,
+                    0.6,
+                )
+            } else {
+                FogLight::point(position, Vec3::splat(power), range)
+            };
+            l.radius = radius;
+            l
+        });
+    let medium = (
+        0.0f32..0.5,
+        0.0f32..1.0,
+        0.0f32..=1.0,
+        0.01f32..2.0,
+        -0.95f32..0.95,
+        unit(),
+        0.0f32..=1.0,
+    )
+        .prop_map(
+            |(density, falloff, strength, scale, g, wind, albedo)| FogMedium {
+                density,
+                height_falloff: falloff,
+                noise_strength: strength,
+                noise_scale: scale,
+                phase_g: g,
+                wind: wind * 5.0,
+                albedo: Vec3::splat(albedo),
+                ..FogMedium::default()
+            },
+        );
+    let volume = (
+        unit(),
+        0.5f32..10.0,
+        -1.0f32..1.0,
+        0.01f32..=1.0,
+        any::<bool>(),
+    )
+        .prop_map(|(c, s, density, edge, ellipsoid)| {
+            let m = Mat4::from_scale_rotation_translation(
+                Vec3::splat(s),
+                glam::Quat::IDENTITY,
+                Vec3::new(c.x * 10.0, c.y * 3.0, -15.0 + c.z * 10.0),
+            );
+            LocalVolume::new(
+                m,
+                if ellipsoid {
+                    VolumeShape::Ellipsoid
+                } else {
+                    VolumeShape::Box
+                },
+                density,
+                edge,
+            )
+            .unwrap()
+        });
+    let case = (
+        medium,
+        proptest::collection::vec(light, 0..8),
+        proptest::collection::vec(volume, 0..4),
+        unit(),
+        0.0f32..100.0,
     );
-    let volume = (unit(), 0.5f32..10.0, -1.0f32..1.0, 0.01f32..=1.0, any::<bool>()).prop_map(|(c, s, density, edge, ellipsoid)| {
-        let m = Mat4::from_scale_rotation_translation(Vec3::splat(s), glam::Quat::IDENTITY, Vec3::new(c.x * 10.0, c.y * 3.0, -15.0 + c.z * 10.0));
-        LocalVolume::new(m, if ellipsoid { VolumeShape::Ellipsoid } else { VolumeShape::Box }, density, edge).unwrap()
+    let mut runner = proptest::test_runner::TestRunner::new(ProptestConfig {
+        cases: 12,
+        ..ProptestConfig::default()
     });
-    let case = (medium, proptest::collection::vec(light, 0..8), proptest::collection::vec(volume, 0..4), unit(), 0.0f32..100.0);
-    let mut runner = proptest::test_runner::TestRunner::new(ProptestConfig { cases: 12, ..ProptestConfig::default() });
     runner
         .run(&case, |(medium, lights, volumes, sun_dir, time)| {
             let inputs = FrameInputs {
                 medium,
-                sun: DirectionalLight { direction: sun_dir.normalize_or(Vec3::Y), ..DirectionalLight::default() },
-                ambient: AmbientSh::sky_ground(Vec3::new(0.3, 0.4, 0.6), Vec3::splat(0.05), Vec3::Y),
+                sun: DirectionalLight {
+                    direction: sun_dir.normalize_or(Vec3::Y),
+                    ..DirectionalLight::default()
+                },
+                ambient: AmbientSh::sky_ground(
+                    Vec3::new(0.3, 0.4, 0.6),
+                    Vec3::splat(0.05),
+                    Vec3::Y,
+                ),
                 lights: &lights,
                 local_volumes: &volumes,
                 ..FrameInputs::new(view(2.0, -0.1), projection(), time)
@@ -179,7 +243,8 @@ fn pipeline_with_random_media_and_lights_is_finite_and_monotonic() {
             let size = config.volume_size;
             for y in 0..size.y {
                 for x in 0..size.x {
-                    let column: Vec<Vec4> = (0..size.z).map(|z| volume[index(size, x, y, z)]).collect();
+                    let column: Vec<Vec4> =
+                        (0..size.z).map(|z| volume[index(size, x, y, z)]).collect();
                     check_column(&column, &format!("column ({x}, {y})"))?;
                 }
             }

@@ -6,17 +6,17 @@
 //   colour: src * One + dst * SrcAlpha      alpha: src * Zero + dst * One
 // which gives color * T + L (Wronski 2014, "Applying effect") without reading the colour.
 // Bindings (group 0): the volfog::bindings layout (0 Froxels, 1 integrated volume,
-//   2 sampler unless VOLFOG_BINDINGS_NO_SAMPLER) plus
-//   3  texture_2d<f32>, unfilterable: the scene depth buffer (a depth texture bound as
+//   2 sampler unless VOLFOG_BINDINGS_NO_SAMPLER, 3 HeightFog tail in view space) plus
+//   4  texture_2d<f32>, unfilterable: the scene depth buffer (a depth texture bound as
 //      unfilterable float, as WebGPU allows; read with textureLoad), same size as the
 //      colour target.
 // Defines: VOLFOG_BINDINGS_NO_SAMPLER — manual trilinear filtering, no sampler binding.
 
 #import volfog::bindings
-#import volfog::apply::{fog_coord_from_ndc, fog_sample, fog_load}
-#import volfog::froxel::ndc_from_uv
+#import volfog::apply::{fog_coord, fog_sample, fog_load, fog_tail, fog_with_tail}
+#import volfog::froxel::{ndc_from_uv, view_from_ndc}
 
-@group(0) @binding(3) var scene_depth: texture_2d<f32>;
+@group(0) @binding(4) var scene_depth: texture_2d<f32>;
 
 @vertex
 fn apply_vs(@builtin(vertex_index) index: u32) -> @builtin(position) vec4<f32> {
@@ -30,10 +30,13 @@ fn apply_fs(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
     let size = vec2<f32>(textureDimensions(scene_depth));
     let depth = textureLoad(scene_depth, vec2<i32>(frag.xy), 0).r;
     let uv = frag.xy / size;
-    let coord = fog_coord_from_ndc(vec3<f32>(ndc_from_uv(uv), depth), bindings::fog_froxels);
+    let froxels = bindings::fog_froxels;
+    let view = view_from_ndc(vec3<f32>(ndc_from_uv(uv), depth), froxels.view_from_clip);
+    let coord = fog_coord(uv, abs(view.z), froxels);
 #ifdef VOLFOG_BINDINGS_NO_SAMPLER
-    return fog_load(bindings::fog_volume, coord);
+    let fog = fog_load(bindings::fog_volume, coord);
 #else
-    return fog_sample(bindings::fog_volume, bindings::fog_sampler, coord);
+    let fog = fog_sample(bindings::fog_volume, bindings::fog_sampler, coord);
 #endif
+    return fog_with_tail(fog, fog_tail(froxels, bindings::fog_height, view));
 }

@@ -1,9 +1,9 @@
 // volfog::apply — fog from the integrated volume for any shaded point: forward
 // shaders, transparent layers and the fullscreen apply pass.
 //
-// Use:      #import volfog::apply::{fog_coord_from_view, fog_sample, apply_fog}
+// Use:      #import volfog::apply::{fog_coord_from_view, fog_sample, fog_tail, fog_with_tail, apply_fog}
 //           let fog = fog_sample(volume, volume_sampler, fog_coord_from_view(p, froxels));
-//           color = apply_fog(color, fog);
+//           color = apply_fog(color, fog_with_tail(fog, fog_tail(froxels, tail, p)));
 // Defines:  none (the bindings live in volfog::bindings).
 // Data:     the integrated volume (the scan pass output) holds, in texel (x, y, k), the
 //           in-scattered radiance (rgb) and transmittance (a) from the near plane to the
@@ -12,11 +12,18 @@
 //           of the first slice's back face, where fog fades in linearly from the near
 //           plane). Depth is interpolated linearly between slice backs, xy bilinearly:
 //           the quadrilinear look-up of Wronski 2014, "Applying effect".
-// Reference: Wronski 2014, "Applying effect": color * transmittance + in-scattering.
+//           Beyond the far plane the volume holds its value at far; the analytic
+//           height-fog tail (fog_tail, a HeightFog given in VIEW space) continues the
+//           fog from the far plane to the shaded point, so distant geometry has no
+//           hard fog edge. At the far plane the tail is empty, so the result is
+//           continuous there.
+// Reference: Wronski 2014, "Applying effect": color * transmittance + in-scattering;
+//           Wenzel 2007, eq. 2, for the tail.
 #define_import_path volfog::apply
 
-#import volfog::types::Froxels
+#import volfog::types::{Froxels, HeightFog}
 #import volfog::froxel::{slice_coord, uv_from_ndc, view_from_ndc}
+#import volfog::height_fog::height_fog
 
 // Fog coordinate of the point at screen uv (v down) and view depth depth (m).
 // Depths beyond far read the value at far.
@@ -69,6 +76,23 @@ fn fog_load(volume: texture_3d<f32>, coord: vec4<f32>) -> vec4<f32> {
     let y0 = mix(mix(c000, c100, f.x), mix(c010, c110, f.x), f.y);
     let y1 = mix(mix(c001, c101, f.x), mix(c011, c111, f.x), f.y);
     return mix(vec4<f32>(0.0, 0.0, 0.0, 1.0), mix(y0, y1, f.z), coord.w);
+}
+
+// Analytic fog between the far plane and a view-space position (m) beyond it, with
+// the height fog given in view space; no fog (0, 0, 0, 1) for points within the volume.
+fn fog_tail(froxels: Froxels, tail: HeightFog, view_pos: vec3<f32>) -> vec4<f32> {
+    let depth = abs(view_pos.z);
+    if depth <= froxels.far {
+        return vec4<f32>(0.0, 0.0, 0.0, 1.0);
+    }
+    let start = view_pos * (froxels.far / depth);
+    return height_fog(tail, start, view_pos - start);
+}
+
+// The volume's fog followed by the fog behind it (the tail): in-scatter of the tail
+// attenuated by the volume, transmittances multiplied.
+fn fog_with_tail(fog: vec4<f32>, tail: vec4<f32>) -> vec4<f32> {
+    return vec4<f32>(fog.rgb + fog.a * tail.rgb, fog.a * tail.a);
 }
 
 // A lit colour seen through fog: color * transmittance + in-scattering.

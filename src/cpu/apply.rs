@@ -4,7 +4,7 @@
 use glam::{Vec2, Vec3, Vec4};
 
 use super::froxel::{slice_coord, uv_from_ndc, view_from_ndc};
-use crate::uniforms::Froxels;
+use crate::uniforms::{Froxels, HeightFog};
 
 /// Fog coordinate (xyz texture coordinate, w weight) of screen uv and view depth.
 pub fn fog_coord(uv: Vec2, depth: f32, froxels: &Froxels) -> Vec4 {
@@ -80,6 +80,22 @@ impl Volume {
         let none = Vec4::new(0.0, 0.0, 0.0, 1.0);
         none + (self.sample(coord.truncate()) - none) * coord.w
     }
+}
+
+/// Analytic fog between the far plane and a view-space position beyond it (the
+/// height fog in view space); no fog within the volume.
+pub fn fog_tail(froxels: &Froxels, tail: &HeightFog, view_pos: Vec3) -> Vec4 {
+    let depth = view_pos.z.abs();
+    if depth <= froxels.far {
+        return Vec4::new(0.0, 0.0, 0.0, 1.0);
+    }
+    let start = view_pos * (froxels.far / depth);
+    super::height_fog::height_fog(tail, start, view_pos - start)
+}
+
+/// The volume's fog followed by the tail behind it.
+pub fn fog_with_tail(fog: Vec4, tail: Vec4) -> Vec4 {
+    (fog.truncate() + fog.w * tail.truncate()).extend(fog.w * tail.w)
 }
 
 /// A lit colour seen through fog: `color * T + L`.

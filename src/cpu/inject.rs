@@ -110,7 +110,13 @@ pub const HALF_MAX: f32 = 65504.0;
 
 /// The temporal pass for froxel `id`: `now` blended with the history reprojected
 /// (from the froxel's centre) through the previous view-projection.
-pub fn temporal_blend(froxels: &Froxels, frame: &FogFrame, id: UVec3, now: Vec4, history: &Volume) -> Vec4 {
+pub fn temporal_blend(
+    froxels: &Froxels,
+    frame: &FogFrame,
+    id: UVec3,
+    now: Vec4,
+    history: &Volume,
+) -> Vec4 {
     let (world, _) = froxel_world_position(froxels, frame, id, false);
     let clip = frame.prev_clip_from_world * world.extend(1.0);
     if frame.history_valid == 0 || clip.w <= 1e-6 {

@@ -14,7 +14,8 @@ pub enum Filtering {
 }
 
 /// The layout entries of `volfog::bindings`: 0 `Froxels` uniform, 1 integrated
-/// volume (3D, filterable float), 2 linear sampler (absent with manual filtering).
+/// volume (3D, filterable float), 2 linear sampler (absent with manual filtering),
+/// 3 `HeightFog` uniform (the analytic tail beyond the far plane, in view space).
 pub fn fog_layout_entries(
     filtering: Filtering,
     visibility: wgpu::ShaderStages,
@@ -31,6 +32,7 @@ pub fn fog_layout_entries(
             count: None,
         });
     }
+    entries.push(uniform_entry(3, visibility));
     entries
 }
 
@@ -80,12 +82,12 @@ impl ApplyPass {
         }
     }
 
-    /// Layout: the `volfog::bindings` entries plus 3, the scene depth (2D,
+    /// Layout: the `volfog::bindings` entries plus 4, the scene depth (2D,
     /// unfilterable float view of a depth texture).
     pub fn layout_entries(filtering: Filtering) -> Vec<wgpu::BindGroupLayoutEntry> {
         let mut entries = fog_layout_entries(filtering, wgpu::ShaderStages::FRAGMENT);
         entries.push(texture_entry(
-            3,
+            4,
             wgpu::ShaderStages::FRAGMENT,
             wgpu::TextureViewDimension::D2,
             false,
@@ -155,13 +157,15 @@ impl ApplyPass {
         &self.layout
     }
 
-    /// A bind group: froxels uniform, integrated volume view and scene depth view
-    /// (a depth-aspect view of the depth texture).
+    /// A bind group: froxels uniform, integrated volume view, the view-space
+    /// `HeightFog` tail uniform and the scene depth view (a depth-aspect view of the
+    /// depth texture).
     pub fn bind_group(
         &self,
         device: &wgpu::Device,
         froxels: &wgpu::Buffer,
         integrated: &wgpu::TextureView,
+        tail: &wgpu::Buffer,
         depth: &wgpu::TextureView,
     ) -> wgpu::BindGroup {
         let mut entries = vec![
@@ -175,6 +179,10 @@ impl ApplyPass {
             },
             wgpu::BindGroupEntry {
                 binding: 3,
+                resource: tail.as_entire_binding(),
+            },
+            wgpu::BindGroupEntry {
+                binding: 4,
                 resource: wgpu::BindingResource::TextureView(depth),
             },
         ];

@@ -33,7 +33,7 @@ use crate::cpu::froxel::froxel_jitter;
 use crate::cpu::scan::ScanStep;
 use crate::uniforms::{
     self, check, AmbientSh, DirectionalLight, FogFrame, FogLight, FogLighting, FogMedium, Froxels,
-    InvalidValue, LocalVolume, ShadowCascades,
+    HeightFog, InvalidValue, LocalVolume, ShadowCascades,
 };
 
 /// The volume texel format.
@@ -265,6 +265,9 @@ pub struct FrameInputs<'a> {
     pub cascades: ShadowCascades,
     /// Drop the history (after a camera cut).
     pub reset_history: bool,
+    /// Analytic height fog continuing beyond the far plane when applying (world
+    /// space; see [`HeightFog::from_medium`]); [`HeightFog::none`] for none.
+    pub tail: HeightFog,
 }
 
 impl FrameInputs<'_> {
@@ -282,6 +285,7 @@ impl FrameInputs<'_> {
             local_volumes: &[],
             cascades: ShadowCascades::default(),
             reset_history: false,
+            tail: HeightFog::none(),
         }
     }
 }
@@ -453,6 +457,7 @@ pub struct VolumetricFog {
     medium: wgpu::Buffer,
     lighting: wgpu::Buffer,
     cascades: wgpu::Buffer,
+    tail: wgpu::Buffer,
     lights: wgpu::Buffer,
     local_volumes: wgpu::Buffer,
     inject_group: wgpu::BindGroup,
@@ -568,6 +573,11 @@ impl VolumetricFog {
             "volfog cascades",
             uniforms::to_uniform_bytes(&ShadowCascades::default()).len(),
         );
+        let tail = uniform_buffer(
+            device,
+            "volfog tail",
+            uniforms::to_uniform_bytes(&HeightFog::none()).len(),
+        );
         let light_bytes = uniforms::to_storage_bytes(&vec![
             FogLight::default();
             config.max_lights.max(1) as usize
@@ -634,6 +644,7 @@ impl VolumetricFog {
             config.apply_filtering,
             &froxels,
             integrated_view,
+            &tail,
             &fog_sampler,
         );
         let timestamps = config.timestamps.then(|| {
@@ -678,6 +689,7 @@ impl VolumetricFog {
             medium,
             lighting,
             cascades,
+            tail,
             lights,
             local_volumes,
             inject_group,
@@ -701,11 +713,13 @@ impl VolumetricFog {
         filtering: Filtering,
         froxels: &wgpu::Buffer,
         integrated: &wgpu::TextureView,
+        tail: &wgpu::Buffer,
         sampler: &wgpu::Sampler,
     ) -> wgpu::BindGroup {
         let mut resources = vec![
             (0, froxels.as_entire_binding()),
             (1, wgpu::BindingResource::TextureView(integrated)),
+            (3, tail.as_entire_binding()),
         ];
         if filtering == Filtering::Sampler {
             resources.push((2, wgpu::BindingResource::Sampler(sampler)));
@@ -831,6 +845,7 @@ impl VolumetricFog {
             )?;
         }
         inputs.cascades.validate(c.esm_log_space)?;
+        inputs.tail.validate()?;
         check(
             inputs.cascades.count <= c.cascades,
             "ShadowCascades.count",
@@ -875,6 +890,8 @@ impl VolumetricFog {
             0,
             &uniforms::to_uniform_bytes(&inputs.cascades),
         );
+        let tail = inputs.tail.to_view_space(inputs.view_from_world);
+        queue.write_buffer(&self.tail, 0, &uniforms::to_uniform_bytes(&tail));
         if !inputs.lights.is_empty() {
             queue.write_buffer(&self.lights, 0, &uniforms::to_storage_bytes(inputs.lights));
         }
@@ -1006,9 +1023,13 @@ impl VolumetricFog {
         color: &wgpu::TextureView,
         depth: &wgpu::TextureView,
     ) {
-        let group = self
-            .apply
-            .bind_group(device, &self.froxels, &self.integrated_view(), depth);
+        let group = self.apply.bind_group(
+            device,
+            &self.froxels,
+            &self.integrated_view(),
+            &self.tail,
+            depth,
+        );
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("volfog apply"),
             color_attachments: &[Some(wgpu::RenderPassColorAttachment {
@@ -1105,6 +1126,7 @@ impl VolumetricFog {
             &self.medium,
             &self.lighting,
             &self.cascades,
+            &self.tail,
             &self.lights,
             &self.local_volumes,
         ]
