@@ -8,8 +8,10 @@
 
 mod common;
 
+use common::Rng;
+
 use common::{gpu, run_f32};
-use glam::{Mat4, Quat, Vec2, Vec3, Vec4};
+use glam::{Mat4, Vec2, Vec3, Vec4};
 use volfog::cpu::fog_volume::*;
 use volfog::uniforms::{FogVolume, VolumeShape};
 
@@ -128,37 +130,6 @@ fn run_gpu(cases: &[Case]) -> Vec<[f32; OUTPUTS]> {
     out.chunks_exact(OUTPUTS)
         .map(|c| c.try_into().unwrap())
         .collect()
-}
-
-struct Rng(u64);
-impl Rng {
-    fn f(&mut self) -> f32 {
-        self.0 = self
-            .0
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        (self.0 >> 40) as f32 / (1u64 << 24) as f32
-    }
-    fn range(&mut self, lo: f32, hi: f32) -> f32 {
-        lo + (hi - lo) * self.f()
-    }
-    fn log(&mut self, lo: f32, hi: f32) -> f32 {
-        (lo.ln() + (hi.ln() - lo.ln()) * self.f()).exp()
-    }
-    fn vec(&mut self, r: f32) -> Vec3 {
-        Vec3::new(self.range(-r, r), self.range(-r, r), self.range(-r, r))
-    }
-    fn unit(&mut self) -> Vec3 {
-        loop {
-            let v = self.vec(1.0);
-            if v.length_squared() > 0.01 && v.length_squared() <= 1.0 {
-                return v.normalize();
-            }
-        }
-    }
-    fn quat(&mut self) -> Quat {
-        Quat::from_axis_angle(self.unit(), self.range(0.0, std::f32::consts::TAU))
-    }
 }
 
 /// A general affine volume: translation * rotation * scale * rotation (any shear).

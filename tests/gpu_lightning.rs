@@ -6,6 +6,8 @@
 
 mod common;
 
+use common::Rng;
+
 use common::{gpu, rel_err, run_f32};
 use glam::Vec3;
 use volfog::cpu::lightning::*;
@@ -60,34 +62,6 @@ fn run_gpu(cases: &[Case]) -> Vec<[f32; 3]> {
     }
     let out = run_f32(&gpu(), KERNEL, &input, cases.len() * 4, cases.len() as u32);
     out.chunks_exact(4).map(|c| [c[0], c[1], c[2]]).collect()
-}
-
-struct Rng(u64);
-impl Rng {
-    fn f(&mut self) -> f32 {
-        self.0 = self
-            .0
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        (self.0 >> 40) as f32 / (1u64 << 24) as f32
-    }
-    fn range(&mut self, lo: f32, hi: f32) -> f32 {
-        lo + (hi - lo) * self.f()
-    }
-    fn log(&mut self, lo: f32, hi: f32) -> f32 {
-        (lo.ln() + (hi.ln() - lo.ln()) * self.f()).exp()
-    }
-    fn vec(&mut self, r: f32) -> Vec3 {
-        Vec3::new(self.range(-r, r), self.range(-r, r), self.range(-r, r))
-    }
-    fn unit(&mut self) -> Vec3 {
-        loop {
-            let v = self.vec(1.0);
-            if v.length_squared() > 0.01 && v.length_squared() <= 1.0 {
-                return v.normalize();
-            }
-        }
-    }
 }
 
 fn cases() -> Vec<(&'static str, Case)> {

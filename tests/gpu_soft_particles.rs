@@ -5,6 +5,8 @@
 
 mod common;
 
+use common::Rng;
+
 use common::{gpu, run_f32};
 use volfog::cpu::soft_particles::*;
 
@@ -36,23 +38,6 @@ fn cpu(c: &[f32; 3]) -> [f32; 2] {
         soft_particle_fade(c[0], c[1], c[2]),
         soft_particle_box_fade(c[0] - 0.5 * c[2], c[0] + 0.5 * c[2], c[1]),
     ]
-}
-
-struct Rng(u64);
-impl Rng {
-    fn f(&mut self) -> f32 {
-        self.0 = self
-            .0
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        (self.0 >> 40) as f32 / (1u64 << 24) as f32
-    }
-    fn range(&mut self, lo: f32, hi: f32) -> f32 {
-        lo + (hi - lo) * self.f()
-    }
-    fn log(&mut self, lo: f32, hi: f32) -> f32 {
-        (lo.ln() + (hi.ln() - lo.ln()) * self.f()).exp()
-    }
 }
 
 /// (particle depth, scene depth, thickness, cosine of the view ray to the view axis).
