@@ -7,6 +7,9 @@ use clap::{Parser, Subcommand, ValueEnum};
 use volfog::export::{export, ExportError, ExportRequest};
 use volfog::shaders::Target;
 
+mod bench;
+mod demo;
+
 #[derive(Parser)]
 #[command(
     name = "volfog",
@@ -45,6 +48,10 @@ enum Command {
         #[arg(long)]
         variant: Vec<String>,
     },
+    /// Render the demo scene headless with the fog pipeline: PNG + per-pass GPU times.
+    Demo(demo::DemoArgs),
+    /// Time every pass with GPU timestamps against its floor and a per-pixel raymarch.
+    Bench(bench::BenchArgs),
     /// Run every pass on the GPU against closed forms and the CPU mirror.
     Selfcheck,
     /// List the prebuilt variants and their defines.
@@ -103,6 +110,14 @@ fn main() -> ExitCode {
                 }
             }
         }
+        Command::Demo(args) => match demo::run(&args) {
+            Ok(()) => ExitCode::SUCCESS,
+            Err(e) => {
+                eprintln!("error: {e}");
+                ExitCode::FAILURE
+            }
+        },
+        Command::Bench(args) => bench::main(args),
         Command::Selfcheck => {
             let gpu = match volfog::gpu::Gpu::new() {
                 Ok(g) => g,

@@ -319,6 +319,33 @@ pub struct PassTimings {
 
 const PASS_COUNT: u32 = 6;
 
+/// The compute passes of a frame, in the order [`VolumetricFog::encode`] records them
+/// (see [`VolumetricFog::encode_pass`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum FogPass {
+    /// ESM downsample (only with a shadow map and cascades).
+    EsmDownsample,
+    /// ESM blur, both directions (only with a shadow map and cascades).
+    EsmBlur,
+    /// Density and lighting injection.
+    Inject,
+    /// Temporal reprojection (only with `FogConfig::temporal`).
+    Temporal,
+    /// Front-to-back integration; ends the frame.
+    Scan,
+}
+
+impl FogPass {
+    /// Every pass, in order.
+    pub const ALL: [FogPass; 5] = [
+        FogPass::EsmDownsample,
+        FogPass::EsmBlur,
+        FogPass::Inject,
+        FogPass::Temporal,
+        FogPass::Scan,
+    ];
+}
+
 struct Timestamps {
     queries: wgpu::QuerySet,
     resolve: wgpu::Buffer,
@@ -945,24 +972,39 @@ impl VolumetricFog {
         encoder: &mut wgpu::CommandEncoder,
         shadow: &ShadowInputs<'_>,
     ) {
+        for pass in FogPass::ALL {
+            self.encode_pass(device, encoder, shadow, pass);
+        }
+    }
+
+    /// Records one pass of [`VolumetricFog::encode`], e.g. to submit and time each
+    /// pass on its own. Calling it for every pass of [`FogPass::ALL`] in order records
+    /// the same work as `encode`; the frame ends with [`FogPass::Scan`]. Passes that
+    /// do not run in this configuration or frame (ESM without a shadow map or without
+    /// cascades, temporal when disabled) record nothing.
+    pub fn encode_pass(
+        &mut self,
+        device: &wgpu::Device,
+        encoder: &mut wgpu::CommandEncoder,
+        shadow: &ShadowInputs<'_>,
+        pass: FogPass,
+    ) {
         let c = &self.config;
         let size = c.volume_size.to_array();
-        if let (Some(shadow_map), true) = (shadow.shadow_map, self.shadows_enabled) {
-            let esm_view = array_view(&self.esm);
-            let scratch_view = array_view(&self.esm_scratch);
-            let downsample = self.esm_passes.downsample_bind_group(
-                device,
-                &self.cascades,
-                shadow_map,
-                &esm_view,
-            );
-            let blur_x = self
-                .esm_passes
-                .blur_bind_group(device, &esm_view, &scratch_view);
-            let blur_y = self
-                .esm_passes
-                .blur_bind_group(device, &scratch_view, &esm_view);
-            {
+        let parity = self.history_index;
+        let shadow_map = shadow.shadow_map.filter(|_| self.shadows_enabled);
+        match pass {
+            FogPass::EsmDownsample => {
+                let Some(shadow_map) = shadow_map else {
+                    return;
+                };
+                let esm_view = array_view(&self.esm);
+                let downsample = self.esm_passes.downsample_bind_group(
+                    device,
+                    &self.cascades,
+                    shadow_map,
+                    &esm_view,
+                );
                 let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
                     label: Some("volfog esm_downsample"),
                     timestamp_writes: self.timestamp_writes(0),
@@ -974,43 +1016,60 @@ impl VolumetricFog {
                     c.cascades,
                 );
             }
-            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                label: Some("volfog esm_blur"),
-                timestamp_writes: self.timestamp_writes(1),
-            });
-            self.esm_passes
-                .encode_blur(&mut pass, &blur_x, 0, c.esm_resolution, c.cascades);
-            self.esm_passes
-                .encode_blur(&mut pass, &blur_y, 1, c.esm_resolution, c.cascades);
+            FogPass::EsmBlur => {
+                if shadow_map.is_none() {
+                    return;
+                }
+                let esm_view = array_view(&self.esm);
+                let scratch_view = array_view(&self.esm_scratch);
+                let blur_x = self
+                    .esm_passes
+                    .blur_bind_group(device, &esm_view, &scratch_view);
+                let blur_y = self
+                    .esm_passes
+                    .blur_bind_group(device, &scratch_view, &esm_view);
+                let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                    label: Some("volfog esm_blur"),
+                    timestamp_writes: self.timestamp_writes(1),
+                });
+                self.esm_passes
+                    .encode_blur(&mut pass, &blur_x, 0, c.esm_resolution, c.cascades);
+                self.esm_passes
+                    .encode_blur(&mut pass, &blur_y, 1, c.esm_resolution, c.cascades);
+            }
+            FogPass::Inject => {
+                let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                    label: Some("volfog inject"),
+                    timestamp_writes: self.timestamp_writes(2),
+                });
+                self.inject.encode(&mut pass, &self.inject_group, size);
+            }
+            FogPass::Temporal => {
+                if !c.temporal {
+                    return;
+                }
+                let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                    label: Some("volfog temporal"),
+                    timestamp_writes: self.timestamp_writes(3),
+                });
+                self.temporal
+                    .encode(&mut pass, &self.temporal_groups[parity], size);
+            }
+            FogPass::Scan => {
+                {
+                    let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                        label: Some("volfog scan"),
+                        timestamp_writes: self.timestamp_writes(4),
+                    });
+                    self.scan
+                        .encode(&mut pass, &self.scan_groups[parity], [size[0], size[1]]);
+                }
+                if self.config.temporal {
+                    self.history_index = 1 - parity;
+                }
+                self.frame_index = self.frame_index.wrapping_add(1);
+            }
         }
-        {
-            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                label: Some("volfog inject"),
-                timestamp_writes: self.timestamp_writes(2),
-            });
-            self.inject.encode(&mut pass, &self.inject_group, size);
-        }
-        let parity = self.history_index;
-        if c.temporal {
-            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                label: Some("volfog temporal"),
-                timestamp_writes: self.timestamp_writes(3),
-            });
-            self.temporal
-                .encode(&mut pass, &self.temporal_groups[parity], size);
-        }
-        {
-            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                label: Some("volfog scan"),
-                timestamp_writes: self.timestamp_writes(4),
-            });
-            self.scan
-                .encode(&mut pass, &self.scan_groups[parity], [size[0], size[1]]);
-        }
-        if c.temporal {
-            self.history_index = 1 - parity;
-        }
-        self.frame_index = self.frame_index.wrapping_add(1);
     }
 
     /// Records the fullscreen apply: blends fog onto `color` (loaded, format

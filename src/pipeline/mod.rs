@@ -14,7 +14,8 @@ pub mod temporal;
 use std::borrow::Cow;
 
 pub use fog::{
-    FogConfig, FogError, FrameInputs, PassTimings, ShadowInputs, UploadedUniforms, VolumetricFog,
+    FogConfig, FogError, FogPass, FrameInputs, PassTimings, ShadowInputs, UploadedUniforms,
+    VolumetricFog,
 };
 
 /// A uniform-buffer layout entry.

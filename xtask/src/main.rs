@@ -9,7 +9,7 @@ const PACKAGES_GPU: &[&str] = &["mesa-vulkan-drivers", "libvulkan1"];
 const PACKAGES_TOOLS: &[&str] = &["spirv-tools", "glslang-tools"];
 
 fn usage() -> ! {
-    eprintln!("usage: cargo xtask demo [--out DIR]   export every shader target and run the GPU self-check");
+    eprintln!("usage: cargo xtask demo [--out DIR]   export every shader target, run the GPU self-check, render the demo to DIR/demo");
     eprintln!(
         "       cargo xtask test [ARGS...]      run the whole test suite (ARGS go to cargo test)"
     );
@@ -159,6 +159,10 @@ fn main() {
                 "--",
                 "selfcheck",
             ])));
+            run(
+                gpu_env(cargo().args(["run", "--bin", "volfog", "--", "demo", "--out"]))
+                    .arg(Path::new(&out).join("demo")),
+            );
         }
         "test" => {
             ensure_system(true);
