@@ -352,58 +352,22 @@ pub struct Report {
 
 /// Timestamp queries of the bench's own passes (begin/end pair per pass).
 struct Timer {
-    queries: wgpu::QuerySet,
-    resolve: wgpu::Buffer,
-    readback: wgpu::Buffer,
-    pairs: u32,
-    period_ns: f64,
+    pairs: volfog::gpu::TimestampPairs,
 }
 
 impl Timer {
     fn new(gpu: &Gpu, pairs: u32) -> Self {
-        let size = u64::from(pairs) * 16;
         Self {
-            queries: gpu.device.create_query_set(&wgpu::QuerySetDescriptor {
-                label: Some("bench timestamps"),
-                ty: wgpu::QueryType::Timestamp,
-                count: pairs * 2,
-            }),
-            resolve: gpu.device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("bench timestamps resolve"),
-                size,
-                usage: wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
-                mapped_at_creation: false,
-            }),
-            readback: gpu.device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("bench timestamps readback"),
-                size,
-                usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-                mapped_at_creation: false,
-            }),
-            pairs,
-            period_ns: f64::from(gpu.queue.get_timestamp_period()),
+            pairs: volfog::gpu::TimestampPairs::new(&gpu.device, "bench timestamps", pairs),
         }
     }
 
     fn compute(&self, pass: u32) -> Option<wgpu::ComputePassTimestampWrites<'_>> {
-        Some(wgpu::ComputePassTimestampWrites {
-            query_set: &self.queries,
-            beginning_of_pass_write_index: Some(pass * 2),
-            end_of_pass_write_index: Some(pass * 2 + 1),
-        })
+        Some(self.pairs.compute(pass))
     }
 
     fn render(&self, pass: u32) -> Option<wgpu::RenderPassTimestampWrites<'_>> {
-        Some(wgpu::RenderPassTimestampWrites {
-            query_set: &self.queries,
-            beginning_of_pass_write_index: Some(pass * 2),
-            end_of_pass_write_index: Some(pass * 2 + 1),
-        })
-    }
-
-    fn resolve(&self, encoder: &mut wgpu::CommandEncoder) {
-        encoder.resolve_query_set(&self.queries, 0..self.pairs * 2, &self.resolve, 0);
-        encoder.copy_buffer_to_buffer(&self.resolve, 0, &self.readback, 0, self.resolve.size());
+        Some(self.pairs.render(pass, true, true))
     }
 
     /// Records one pass with `record` (which uses the timestamp writes of `slot`),
@@ -416,36 +380,13 @@ impl Timer {
     ) -> Result<Sample, BenchError> {
         let mut encoder = gpu.device.create_command_encoder(&Default::default());
         record(&mut encoder);
-        self.resolve(&mut encoder);
+        self.pairs.resolve(&mut encoder);
         let cpu = submit_and_wait(gpu, encoder.finish())?;
-        let gpu_ms = self.read(gpu)?[slot as usize];
+        let gpu_ms = self
+            .pairs
+            .read_ms(&gpu.device, &gpu.queue)
+            .map_err(|e| BenchError::Readback(e.to_string()))?[slot as usize];
         Ok(Sample { gpu: gpu_ms, cpu })
-    }
-
-    /// Milliseconds per pass of the last resolved submission (blocks).
-    fn read(&self, gpu: &Gpu) -> Result<Vec<f64>, BenchError> {
-        let slice = self.readback.slice(..);
-        let (tx, rx) = std::sync::mpsc::channel();
-        slice.map_async(wgpu::MapMode::Read, move |r| {
-            let _ = tx.send(r);
-        });
-        gpu.device
-            .poll(wgpu::PollType::wait_indefinitely())
-            .map_err(|e| BenchError::Readback(e.to_string()))?;
-        rx.recv()
-            .map_err(|e| BenchError::Readback(e.to_string()))?
-            .map_err(|e| BenchError::Readback(e.to_string()))?;
-        let ticks: Vec<u64> = {
-            let data = slice
-                .get_mapped_range()
-                .map_err(|e| BenchError::Readback(e.to_string()))?;
-            bytemuck::cast_slice::<u8, u64>(&data).to_vec()
-        };
-        self.readback.unmap();
-        Ok(ticks
-            .chunks_exact(2)
-            .map(|t| t[1].saturating_sub(t[0]) as f64 * self.period_ns / 1.0e6)
-            .collect())
     }
 }
 

@@ -78,13 +78,6 @@ impl Geometry {
     }
 }
 
-struct Timestamps {
-    queries: wgpu::QuerySet,
-    resolve: wgpu::Buffer,
-    readback: wgpu::Buffer,
-    period_ns: f32,
-}
-
 /// Render targets, pipelines and buffers of the demo.
 pub struct Renderer {
     pub width: u32,
@@ -112,7 +105,7 @@ pub struct Renderer {
     sky_pipeline: wgpu::RenderPipeline,
     transparent_pipeline: wgpu::RenderPipeline,
     tonemap_pipeline: wgpu::RenderPipeline,
-    timestamps: Option<Timestamps>,
+    timestamps: Option<volfog::gpu::TimestampPairs>,
 }
 
 fn uniform_entry(binding: u32, visibility: wgpu::ShaderStages) -> wgpu::BindGroupLayoutEntry {
@@ -527,27 +520,7 @@ impl Renderer {
         );
 
         let timestamps = timestamps.then(|| {
-            let count = DEMO_PASSES.len() as u32 * 2;
-            Timestamps {
-                queries: device.create_query_set(&wgpu::QuerySetDescriptor {
-                    label: Some("demo timestamps"),
-                    ty: wgpu::QueryType::Timestamp,
-                    count,
-                }),
-                resolve: device.create_buffer(&wgpu::BufferDescriptor {
-                    label: Some("demo timestamps resolve"),
-                    size: u64::from(count) * 8,
-                    usage: wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
-                    mapped_at_creation: false,
-                }),
-                readback: device.create_buffer(&wgpu::BufferDescriptor {
-                    label: Some("demo timestamps readback"),
-                    size: u64::from(count) * 8,
-                    usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-                    mapped_at_creation: false,
-                }),
-                period_ns: 0.0,
-            }
+            volfog::gpu::TimestampPairs::new(device, "demo timestamps", DEMO_PASSES.len() as u32)
         });
 
         Ok(Self {
@@ -631,13 +604,7 @@ impl Renderer {
         if !begin && !end {
             return None;
         }
-        self.timestamps
-            .as_ref()
-            .map(|t| wgpu::RenderPassTimestampWrites {
-                query_set: &t.queries,
-                beginning_of_pass_write_index: begin.then_some(pass * 2),
-                end_of_pass_write_index: end.then_some(pass * 2 + 1),
-            })
+        self.timestamps.as_ref().map(|t| t.render(pass, begin, end))
     }
 
     /// Renders every cascade layer of the shadow map (opaque geometry only).
@@ -781,43 +748,18 @@ impl Renderer {
     /// Resolves this frame's timestamps; call before submitting.
     pub fn resolve_timestamps(&self, encoder: &mut wgpu::CommandEncoder) {
         if let Some(t) = &self.timestamps {
-            let count = DEMO_PASSES.len() as u32 * 2;
-            encoder.resolve_query_set(&t.queries, 0..count, &t.resolve, 0);
-            encoder.copy_buffer_to_buffer(&t.resolve, 0, &t.readback, 0, t.resolve.size());
+            t.resolve(encoder);
         }
     }
 
     /// GPU milliseconds of the demo passes of the last submitted frame (blocks).
     pub fn read_timings(
-        &mut self,
+        &self,
         device: &wgpu::Device,
         queue: &wgpu::Queue,
     ) -> Option<[f64; DEMO_PASSES.len()]> {
-        let t = self.timestamps.as_mut()?;
-        if t.period_ns == 0.0 {
-            t.period_ns = queue.get_timestamp_period();
-        }
-        let slice = t.readback.slice(..);
-        let (tx, rx) = std::sync::mpsc::channel();
-        slice.map_async(wgpu::MapMode::Read, move |r| {
-            let _ = tx.send(r);
-        });
-        device.poll(wgpu::PollType::wait_indefinitely()).ok()?;
-        rx.recv().ok()?.ok()?;
-        let ticks: Vec<u64> = {
-            let data = slice.get_mapped_range().ok()?;
-            bytemuck::cast_slice::<u8, u64>(&data).to_vec()
-        };
-        t.readback.unmap();
-        let period = f64::from(t.period_ns);
-        Some(std::array::from_fn(|i| {
-            let (a, b) = (ticks[2 * i], ticks[2 * i + 1]);
-            if b > a {
-                (b - a) as f64 * period / 1.0e6
-            } else {
-                0.0
-            }
-        }))
+        let ms = self.timestamps.as_ref()?.read_ms(device, queue).ok()?;
+        Some(std::array::from_fn(|i| ms[i]))
     }
 }
 

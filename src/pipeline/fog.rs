@@ -31,6 +31,7 @@ use super::temporal::TemporalPass;
 use crate::codegen::CodegenError;
 use crate::cpu::froxel::froxel_jitter;
 use crate::cpu::scan::ScanStep;
+use crate::gpu::TimestampPairs;
 use crate::uniforms::{
     self, check, AmbientSh, DirectionalLight, FogFrame, FogLight, FogLighting, FogMedium, Froxels,
     HeightFog, InvalidValue, LocalVolume, ShadowCascades,
@@ -346,13 +347,6 @@ impl FogPass {
     ];
 }
 
-struct Timestamps {
-    queries: wgpu::QuerySet,
-    resolve: wgpu::Buffer,
-    readback: wgpu::Buffer,
-    period_ns: f32,
-}
-
 fn volume_texture(device: &wgpu::Device, label: &str, size: UVec3) -> wgpu::Texture {
     device.create_texture(&wgpu::TextureDescriptor {
         label: Some(label),
@@ -492,7 +486,7 @@ pub struct VolumetricFog {
     scan_groups: [wgpu::BindGroup; 2],
     fog_layout: wgpu::BindGroupLayout,
     fog_group: wgpu::BindGroup,
-    timestamps: Option<Timestamps>,
+    timestamps: Option<TimestampPairs>,
     frame_index: u32,
     history_index: usize,
     prev_clip_from_world: Option<Mat4>,
@@ -674,29 +668,9 @@ impl VolumetricFog {
             &tail,
             &fog_sampler,
         );
-        let timestamps = config.timestamps.then(|| {
-            let count = PASS_COUNT * 2;
-            Timestamps {
-                queries: device.create_query_set(&wgpu::QuerySetDescriptor {
-                    label: Some("volfog timestamps"),
-                    ty: wgpu::QueryType::Timestamp,
-                    count,
-                }),
-                resolve: device.create_buffer(&wgpu::BufferDescriptor {
-                    label: Some("volfog timestamps resolve"),
-                    size: u64::from(count) * 8,
-                    usage: wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
-                    mapped_at_creation: false,
-                }),
-                readback: device.create_buffer(&wgpu::BufferDescriptor {
-                    label: Some("volfog timestamps readback"),
-                    size: u64::from(count) * 8,
-                    usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-                    mapped_at_creation: false,
-                }),
-                period_ns: 0.0,
-            }
-        });
+        let timestamps = config
+            .timestamps
+            .then(|| TimestampPairs::new(device, "volfog timestamps", PASS_COUNT));
         Ok(Self {
             config: config.clone(),
             esm_passes,
@@ -955,13 +929,7 @@ impl VolumetricFog {
     }
 
     fn timestamp_writes(&self, pass: u32) -> Option<wgpu::ComputePassTimestampWrites<'_>> {
-        self.timestamps
-            .as_ref()
-            .map(|t| wgpu::ComputePassTimestampWrites {
-                query_set: &t.queries,
-                beginning_of_pass_write_index: Some(pass * 2),
-                end_of_pass_write_index: Some(pass * 2 + 1),
-            })
+        self.timestamps.as_ref().map(|t| t.compute(pass))
     }
 
     /// Records ESM downsample -> blur -> inject -> temporal -> scan for the frame
@@ -1101,14 +1069,7 @@ impl VolumetricFog {
                 },
             })],
             depth_stencil_attachment: None,
-            timestamp_writes: self
-                .timestamps
-                .as_ref()
-                .map(|t| wgpu::RenderPassTimestampWrites {
-                    query_set: &t.queries,
-                    beginning_of_pass_write_index: Some(10),
-                    end_of_pass_write_index: Some(11),
-                }),
+            timestamp_writes: self.timestamps.as_ref().map(|t| t.render(5, true, true)),
             occlusion_query_set: None,
             multiview_mask: None,
         });
@@ -1195,7 +1156,7 @@ impl VolumetricFog {
         let queries = self
             .timestamps
             .as_ref()
-            .map(|t| t.resolve.size() + t.readback.size())
+            .map(TimestampPairs::buffer_bytes)
             .unwrap_or(0);
         textures + buffers + queries
     }
@@ -1204,49 +1165,22 @@ impl VolumetricFog {
     /// call after `encode` and `apply_fullscreen`, before submitting.
     pub fn resolve_timestamps(&self, encoder: &mut wgpu::CommandEncoder) {
         if let Some(t) = &self.timestamps {
-            encoder.resolve_query_set(&t.queries, 0..PASS_COUNT * 2, &t.resolve, 0);
-            encoder.copy_buffer_to_buffer(&t.resolve, 0, &t.readback, 0, t.resolve.size());
+            t.resolve(encoder);
         }
     }
 
     /// Reads the per-pass GPU times of the last resolved frame (blocks until the GPU
-    /// is done). `None` without timestamps. Passes that did not run read 0.
-    pub fn read_timings(
-        &mut self,
-        device: &wgpu::Device,
-        queue: &wgpu::Queue,
-    ) -> Option<PassTimings> {
-        let t = self.timestamps.as_mut()?;
-        if t.period_ns == 0.0 {
-            t.period_ns = queue.get_timestamp_period();
-        }
-        let slice = t.readback.slice(..);
-        let (tx, rx) = std::sync::mpsc::channel();
-        slice.map_async(wgpu::MapMode::Read, move |r| {
-            let _ = tx.send(r);
-        });
-        device.poll(wgpu::PollType::wait_indefinitely()).ok()?;
-        rx.recv().ok()?.ok()?;
-        let ticks: Vec<u64> = {
-            let data = slice.get_mapped_range().ok()?;
-            bytemuck::cast_slice::<u8, u64>(&data).to_vec()
-        };
-        t.readback.unmap();
-        let ms = |i: usize| {
-            let (a, b) = (ticks[2 * i], ticks[2 * i + 1]);
-            if b > a {
-                (b - a) as f64 * f64::from(t.period_ns) / 1.0e6
-            } else {
-                0.0
-            }
-        };
+    /// is done). `None` without timestamps or when the readback fails. Passes that
+    /// did not run read 0.
+    pub fn read_timings(&self, device: &wgpu::Device, queue: &wgpu::Queue) -> Option<PassTimings> {
+        let ms = self.timestamps.as_ref()?.read_ms(device, queue).ok()?;
         Some(PassTimings {
-            esm_downsample: ms(0),
-            esm_blur: ms(1),
-            inject: ms(2),
-            temporal: ms(3),
-            scan: ms(4),
-            apply: ms(5),
+            esm_downsample: ms[0],
+            esm_blur: ms[1],
+            inject: ms[2],
+            temporal: ms[3],
+            scan: ms[4],
+            apply: ms[5],
         })
     }
 }
