@@ -585,25 +585,7 @@ pub fn run_apply(gpu: &Gpu, filtering: Filtering, case: &ApplyCase) -> Result<Ve
     })?;
     let color_view = color.create_view(&Default::default());
     let mut encoder = gpu.device.create_command_encoder(&Default::default());
-    {
-        let mut render = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-            label: Some("apply"),
-            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                view: &color_view,
-                depth_slice: None,
-                resolve_target: None,
-                ops: wgpu::Operations {
-                    load: wgpu::LoadOp::Load,
-                    store: wgpu::StoreOp::Store,
-                },
-            })],
-            depth_stencil_attachment: None,
-            timestamp_writes: None,
-            occlusion_query_set: None,
-            multiview_mask: None,
-        });
-        pass.encode(&mut render, &bind_group);
-    }
+    pass.record(&mut encoder, &color_view, &bind_group, None);
     gpu.queue.submit([encoder.finish()]);
     gpu.read_texture_rgba16f(&color)
 }

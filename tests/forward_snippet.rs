@@ -341,25 +341,7 @@ fn forward_snippet_agrees_with_fullscreen_pass() {
     );
     let plain_view = plain.create_view(&Default::default());
     let mut encoder = device.create_command_encoder(&Default::default());
-    {
-        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-            label: Some("apply"),
-            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                view: &plain_view,
-                depth_slice: None,
-                resolve_target: None,
-                ops: wgpu::Operations {
-                    load: wgpu::LoadOp::Load,
-                    store: wgpu::StoreOp::Store,
-                },
-            })],
-            depth_stencil_attachment: None,
-            timestamp_writes: None,
-            occlusion_query_set: None,
-            multiview_mask: None,
-        });
-        apply.encode(&mut pass, &apply_group);
-    }
+    apply.record(&mut encoder, &plain_view, &apply_group, None);
     gpu.queue.submit([encoder.finish()]);
 
     let forward_px = gpu.read_texture_rgba16f(&forward).unwrap();

@@ -1057,23 +1057,12 @@ impl VolumetricFog {
             &self.tail,
             depth,
         );
-        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-            label: Some("volfog apply"),
-            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                view: color,
-                depth_slice: None,
-                resolve_target: None,
-                ops: wgpu::Operations {
-                    load: wgpu::LoadOp::Load,
-                    store: wgpu::StoreOp::Store,
-                },
-            })],
-            depth_stencil_attachment: None,
-            timestamp_writes: self.timestamps.as_ref().map(|t| t.render(5, true, true)),
-            occlusion_query_set: None,
-            multiview_mask: None,
-        });
-        self.apply.encode(&mut pass, &group);
+        self.apply.record(
+            encoder,
+            color,
+            &group,
+            self.timestamps.as_ref().map(|t| t.render(5, true, true)),
+        );
     }
 
     /// The integrated volume (rgb in-scatter, a transmittance) after `encode`.
