@@ -1,20 +1,25 @@
 //! volfog: real-time volumetric fog as a library.
 //!
-//! - [`shaders`]: composable WGSL modules (`volfog::phase`, `volfog::scan`,
-//!   `volfog::apply`, ...), every pass prebuilt and validated in WGSL, SPIR-V, GLSL,
-//!   HLSL and MSL, and custom compositions.
+//! The layers point one way: [`limits`] and [`options`] <- [`uniforms`] <- [`cpu`] <-
+//! [`pipeline`].
+//!
+//! - [`shaders`]: the composable WGSL modules (`volfog::phase`, `volfog::scan`,
+//!   `volfog::apply`, ...), for an engine's naga_oil composer, and the variants the
+//!   runtime composes; translation to other languages lives in
+//!   [`volfog_codegen`] (feature `translate`).
+//! - [`limits`]: every range volfog checks, and the error naming a value outside one.
+//! - [`options`]: the options that select a shader variant.
 //! - [`uniforms`]: Rust twins (encase + glam) of the WGSL uniform structs.
 //! - [`cpu`]: the same formulas in Rust, the oracle of the GPU tests and a gameplay API.
-//! - [`gpu`]: adapter selection and small helpers to run the passes with wgpu.
-//! - [`export`]: writes every target plus the JSON binding manifest to a folder.
+//! - [`pipeline`]: the wgpu runtime: each pass, and [`pipeline::VolumetricFog`], which
+//!   runs the whole froxel pipeline.
 #![warn(missing_docs)]
 
-pub mod codegen;
 pub mod cpu;
-pub mod export;
-pub mod gpu;
-pub mod manifest;
+pub mod limits;
+pub mod options;
 pub mod pipeline;
-pub mod selfcheck;
 pub mod shaders;
 pub mod uniforms;
+
+pub use volfog_codegen;

@@ -1,29 +1,25 @@
 // Pass apply — fogs a lit colour target with the integrated volume, using the depth
 // buffer: one fullscreen triangle.
 //
-// Draw: 3 vertices, no vertex buffers. The fragment writes (in-scatter, transmittance);
-// blend it onto the colour target with
+// Draw: 3 vertices with the fullscreen pass's vertex shader (fullscreen_vs), no vertex
+// buffers. The fragment writes (in-scatter, transmittance); blend it onto the colour
+// target with
 //   colour: src * One + dst * SrcAlpha      alpha: src * Zero + dst * One
 // which gives color * T + L (Wronski 2014, "Applying effect") without reading the colour.
-// Bindings (group 0): the volfog::bindings layout (0 Froxels, 1 integrated volume,
-//   2 sampler unless VOLFOG_BINDINGS_NO_SAMPLER, 3 HeightFog tail in view space) plus
-//   4  texture_2d<f32>, unfilterable: the scene depth buffer (a depth texture bound as
-//      unfilterable float, as WebGPU allows; read with textureLoad), same size as the
-//      colour target.
+// Bindings:
+//   group 0 (VOLFOG_FOG_GROUP): the fog group of volfog::bindings (0 Froxels,
+//     1 integrated volume, 2 sampler unless VOLFOG_BINDINGS_NO_SAMPLER, 3 HeightFog
+//     tail in view space)
+//   group 1, binding 0: texture_2d<f32>, unfilterable: the scene depth buffer (a depth
+//     texture bound as unfilterable float, as WebGPU allows; read with textureLoad),
+//     same size as the colour target
 // Defines: VOLFOG_BINDINGS_NO_SAMPLER — manual trilinear filtering, no sampler binding.
 
 #import volfog::bindings
 #import volfog::apply::{fog_coord, fog_sample, fog_load, fog_tail, fog_with_tail}
 #import volfog::froxel::{ndc_from_uv, view_from_ndc}
 
-@group(0) @binding(4) var scene_depth: texture_2d<f32>;
-
-@vertex
-fn apply_vs(@builtin(vertex_index) index: u32) -> @builtin(position) vec4<f32> {
-    // Vertices (-1, -1), (3, -1), (-1, 3) cover the screen.
-    let xy = vec2<f32>(f32((index << 1u) & 2u), f32(index & 2u));
-    return vec4<f32>(xy * 2.0 - 1.0, 0.0, 1.0);
-}
+@group(1) @binding(0) var scene_depth: texture_2d<f32>;
 
 @fragment
 fn apply_fs(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
@@ -34,9 +30,9 @@ fn apply_fs(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
     let view = view_from_ndc(vec3<f32>(ndc_from_uv(uv), depth), froxels.view_from_clip);
     let coord = fog_coord(uv, abs(view.z), froxels);
 #ifdef VOLFOG_BINDINGS_NO_SAMPLER
-    let fog = fog_load(bindings::fog_volume, coord);
+    let fog = fog_load(bindings::fog_integrated, coord);
 #else
-    let fog = fog_sample(bindings::fog_volume, bindings::fog_sampler, coord);
+    let fog = fog_sample(bindings::fog_integrated, bindings::fog_sampler, coord);
 #endif
-    return fog_with_tail(fog, fog_tail(froxels, bindings::fog_height, view));
+    return fog_with_tail(fog, fog_tail(froxels, bindings::fog_far_tail, view));
 }

@@ -1,7 +1,8 @@
 // Pass hull_composite — fogs a lit colour target with the thickness accumulated by
 // hull_thickness: one fullscreen triangle.
 //
-// Draw: 3 vertices, no vertex buffers, onto the lit colour target (load, no depth
+// Draw: 3 vertices with the fullscreen pass's vertex shader (fullscreen_vs), no vertex
+// buffers, onto the lit colour target (load, no depth
 // attachment, same size as the thickness target). The fragment writes (in-scatter,
 // transmittance) = (colour * (1 - T), T) with T = exp(-density * thickness); blend
 //   colour: src * One + dst * SrcAlpha      alpha: src * Zero + dst * One
@@ -17,13 +18,6 @@
 
 @group(0) @binding(0) var<uniform> hull: FogHull;
 @group(0) @binding(1) var hull_sum: texture_2d<f32>;
-
-@vertex
-fn hull_composite_vs(@builtin(vertex_index) index: u32) -> @builtin(position) vec4<f32> {
-    // Vertices (-1, -1), (3, -1), (-1, 3) cover the screen.
-    let xy = vec2<f32>(f32((index << 1u) & 2u), f32(index & 2u));
-    return vec4<f32>(xy * 2.0 - 1.0, 0.0, 1.0);
-}
 
 @fragment
 fn hull_composite_fs(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {

@@ -31,8 +31,9 @@ struct Froxels {
 struct FogFrame {
     // View -> world transform of the current camera.
     world_from_view: mat4x4<f32>,
-    // World -> clip (projection * view) of the previous frame, for reprojection.
-    prev_clip_from_world: mat4x4<f32>,
+    // World -> clip (projection * view) of the current camera; the temporal pass
+    // records it with the history it writes.
+    clip_from_world: mat4x4<f32>,
     // Camera position in world space (m).
     camera_position: vec3<f32>,
     // Seconds since start, drives noise animation and density scrolling.
@@ -42,8 +43,20 @@ struct FogFrame {
     jitter: vec3<f32>,
     // Weight of the reprojected history in [0, 1) (0.9 by default).
     history_weight: f32,
-    // 1 when the history volume holds a previous frame, 0 on the first frame.
-    history_valid: u32,
+    // Frames prepared before this one.
+    index: u32,
+    // 0 to ignore the history this frame (after a camera cut), else 1.
+    history_enabled: u32,
+}
+
+// What a history volume holds, written by the temporal pass beside the volume it
+// stabilises (so reprojection always uses the camera the history was rendered with,
+// whichever frames were submitted). Zeroed memory reads as "no history".
+struct HistoryState {
+    // World -> clip of the frame whose volume it is.
+    clip_from_world: mat4x4<f32>,
+    // 1 once a volume was written, 0 before.
+    valid: u32,
 }
 
 // The participating medium (Wronski 2014, "Density estimation and volume lighting").

@@ -29,7 +29,8 @@
 
 use glam::{Vec2, Vec3, Vec4};
 
-use super::height_fog::{fog_inscatter, height_fog_optical_depth, FOG_POSITION_LIMIT};
+use super::height_fog::{fog_inscatter, height_fog_optical_depth};
+use crate::limits::FOG_POSITION_LIMIT;
 use crate::uniforms::FogVolume;
 
 /// Shape code of a box (`FogVolume.shape`).

@@ -31,18 +31,13 @@
 use glam::{Vec3, Vec4};
 
 use super::phase::phase_hg;
+use crate::limits::{FOG_DENSITY_LIMIT, FOG_FALLOFF_LIMIT, FOG_POSITION_LIMIT};
 use crate::uniforms::HeightFog;
 
 /// Below this `|x|` the mean `E(x)` uses its Taylor series.
 pub const FOG_SERIES_LIMIT: f32 = 1.0;
 /// Exponent arguments are clamped to `+-FOG_EXPONENT_LIMIT`.
 pub const FOG_EXPONENT_LIMIT: f32 = 80.0;
-/// Largest base density (1/m).
-pub const FOG_DENSITY_LIMIT: f32 = 1e3;
-/// Largest falloff magnitude (1/m).
-pub const FOG_FALLOFF_LIMIT: f32 = 1e3;
-/// Positions, segments and heights are clamped to `+-FOG_POSITION_LIMIT` metres.
-pub const FOG_POSITION_LIMIT: f32 = 1e9;
 /// Largest peak density (1/m).
 pub const FOG_PEAK_LIMIT: f32 = 1e20;
 

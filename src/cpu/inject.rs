@@ -1,19 +1,17 @@
-//! Mirror of the inject and temporal passes: the scattering of one froxel and the
-//! reprojected blend, composed from the module mirrors exactly as the passes compose
-//! the WGSL functions (light culling aside, which only skips lights whose range
-//! cannot reach the froxel).
+//! Mirror of the inject pass: the scattering of one froxel, composed from the module
+//! mirrors exactly as the pass composes the WGSL functions (light culling aside,
+//! which only skips lights whose range cannot reach the froxel).
 
 use glam::{UVec3, Vec3, Vec4};
 
-use super::apply::Volume;
 use super::density::{local_volume_density, medium_extinction};
-use super::esm::{esm_shadow, Layer};
-use super::froxel::{froxel_view_position, slice_coord, uv_from_ndc};
+use super::esm::{Layer, esm_shadow};
+use super::froxel::froxel_view_position;
 use super::lights::{
     ambient_inscatter, fog_light_inscatter, sun_inscatter, sun_inscatter_two_color,
 };
 use super::noise::noise_animated;
-use crate::pipeline::inject::InjectOptions;
+use crate::options::InjectOptions;
 use crate::uniforms::{
     FogFrame, FogLight, FogLighting, FogMedium, Froxels, LocalVolume, ShadowCascades,
 };
@@ -157,27 +155,3 @@ pub fn froxel_scattering(inputs: &InjectInputs<'_>, id: UVec3) -> Vec4 {
 
 /// Largest finite rgba16float value; the inject output is clamped to it.
 pub const HALF_MAX: f32 = 65504.0;
-
-/// The temporal pass for froxel `id`: `now` blended with the history reprojected
-/// (from the froxel's centre) through the previous view-projection.
-pub fn temporal_blend(
-    froxels: &Froxels,
-    frame: &FogFrame,
-    id: UVec3,
-    now: Vec4,
-    history: &Volume,
-) -> Vec4 {
-    let (world, _) = froxel_world_position(froxels, frame, id, false);
-    let clip = frame.prev_clip_from_world * world.extend(1.0);
-    if frame.history_valid == 0 || clip.w <= 1e-6 {
-        return now;
-    }
-    let uv = uv_from_ndc(glam::Vec2::new(clip.x, clip.y) / clip.w);
-    let w = slice_coord(clip.w, froxels.near, froxels.far, froxels.curve);
-    let uvw = Vec3::new(uv.x, uv.y, w);
-    if uvw.cmplt(Vec3::ZERO).any() || uvw.cmpgt(Vec3::ONE).any() {
-        return now;
-    }
-    let past = history.sample(uvw);
-    now.lerp(past, frame.history_weight.clamp(0.0, 1.0))
-}

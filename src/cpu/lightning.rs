@@ -60,11 +60,7 @@ pub fn lightning_atan2(y: f32, x: f32) -> f32 {
     } else {
         lightning_atan_unit(a)
     };
-    if x < 0.0 {
-        LIGHTNING_PI - r
-    } else {
-        r
-    }
+    if x < 0.0 { LIGHTNING_PI - r } else { r }
 }
 
 /// The light density `i / (1 + a |l - p|^2)` at one point.

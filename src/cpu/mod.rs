@@ -4,6 +4,7 @@
 //! They are the oracle of the GPU tests and a public API for gameplay queries, such
 //! as how much fog lies between two points.
 
+pub mod ambient;
 pub mod apply;
 pub mod density;
 pub mod esm;
@@ -18,3 +19,4 @@ pub mod noise;
 pub mod phase;
 pub mod scan;
 pub mod soft_particles;
+pub mod temporal;

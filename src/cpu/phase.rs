@@ -18,7 +18,7 @@ pub const INV_4PI: f32 = 0.079_577_47;
 /// Real SH basis constant of band 0, 1 / (2 sqrt(pi)).
 pub const SH_Y0: f32 = 0.282_094_8;
 /// Real SH basis constant of band 1, sqrt(3 / (4 pi)).
-pub const SH_Y1: f32 = 0.488_602_5;
+pub const SH_Y1: f32 = 0.488_602_51;
 /// sqrt(5 / (4 pi)), the zonal band-2 constant.
 pub const SH_Y2: f32 = 0.630_783_1;
 

@@ -2,7 +2,8 @@
 //!
 //! ```
 //! use glam::{Vec3, Vec4};
-//! use volfog::cpu::scan::{scan_step, ScanStep, SCAN_START};
+//! use volfog::cpu::scan::{scan_step, SCAN_START};
+//! use volfog::options::ScanStep;
 //! // Homogeneous fog: sigma_s = sigma_t = 0.1 / m, in-scattered light 1.
 //! let medium = Vec4::new(0.1, 0.1, 0.1, 0.1);
 //! let mut acc = SCAN_START;
@@ -16,20 +17,13 @@
 
 use glam::{Vec3, Vec4};
 
+pub use crate::options::ScanStep;
+
 /// Accumulator before the first slice (no in-scatter, transmittance 1).
 pub const SCAN_START: Vec4 = Vec4::new(0.0, 0.0, 0.0, 1.0);
 
 /// Below this optical depth the slice integral uses its series.
 pub const SCAN_SERIES_LIMIT: f32 = 1e-2;
-
-/// Which integration step the scan uses (the WGSL define `VOLFOG_SCAN_WRONSKI_STEP`).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum ScanStep {
-    /// In-scattering of a slice integrated against its own extinction (default).
-    EnergyConserving,
-    /// Wronski 2014: the slice's in-scattering enters unattenuated.
-    Wronski,
-}
 
 /// In-scattering of one homogeneous slice of path length `ds` seen from its front.
 pub fn slice_inscatter(medium: Vec4, ds: f32, step: ScanStep) -> Vec3 {

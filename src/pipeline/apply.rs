@@ -1,21 +1,18 @@
-//! The fullscreen apply pass (`shaders/passes/apply.wgsl`) and the bind group layout
-//! of `volfog::bindings`, which forward shaders that apply fog share.
+//! The fog group (`volfog::bindings`), which forward shaders and the fullscreen apply
+//! pass read, and the fullscreen apply pass (`shaders/passes/apply.wgsl` with the
+//! vertex shader of `shaders/passes/fullscreen.wgsl`).
 
-use super::{prebuilt_wgsl, texture_entry, uniform_entry};
+use super::{
+    RenderPipelineDesc, bind_group, bind_group_layout, render_pipeline, shader_module,
+    texture_entry, uniform_entry,
+};
+use crate::options::Filtering;
+use crate::shaders::CodegenError;
 
-/// How the integrated volume is filtered.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Filtering {
-    /// A linear, clamp-to-edge sampler (binding 2).
-    Sampler,
-    /// Eight texel loads filtered in the shader; no sampler binding
-    /// (`VOLFOG_BINDINGS_NO_SAMPLER`).
-    Manual,
-}
-
-/// The layout entries of `volfog::bindings`: 0 `Froxels` uniform, 1 integrated
-/// volume (3D, filterable float), 2 linear sampler (absent with manual filtering),
-/// 3 `HeightFog` uniform (the analytic tail beyond the far plane, in view space).
+/// The layout entries of the fog group (`volfog::bindings`): 0 `Froxels` uniform,
+/// 1 integrated volume (3D, filterable float), 2 linear sampler (absent with manual
+/// filtering), 3 `HeightFog` uniform (the analytic tail beyond the far plane, in view
+/// space).
 pub fn fog_layout_entries(
     filtering: Filtering,
     visibility: wgpu::ShaderStages,
@@ -25,18 +22,36 @@ pub fn fog_layout_entries(
         texture_entry(1, visibility, wgpu::TextureViewDimension::D3, true),
     ];
     if filtering == Filtering::Sampler {
-        entries.push(wgpu::BindGroupLayoutEntry {
-            binding: 2,
-            visibility,
-            ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering),
-            count: None,
-        });
+        entries.push(super::sampler_entry(2, visibility, true));
     }
     entries.push(uniform_entry(3, visibility));
     entries
 }
 
-/// The sampler `volfog::bindings` expects: linear filtering, clamp to edge.
+/// A fog group (layout from [`fog_layout_entries`] with `filtering`): the `Froxels`
+/// uniform, the integrated volume, the `HeightFog` tail uniform (view space) and, with
+/// [`Filtering::Sampler`], the sampler of [`fog_sampler`].
+pub fn fog_bind_group(
+    device: &wgpu::Device,
+    layout: &wgpu::BindGroupLayout,
+    filtering: Filtering,
+    froxels: &wgpu::Buffer,
+    integrated: &wgpu::TextureView,
+    tail: &wgpu::Buffer,
+    sampler: &wgpu::Sampler,
+) -> wgpu::BindGroup {
+    let mut resources = vec![
+        (0, froxels.as_entire_binding()),
+        (1, wgpu::BindingResource::TextureView(integrated)),
+        (3, tail.as_entire_binding()),
+    ];
+    if filtering == Filtering::Sampler {
+        resources.push((2, wgpu::BindingResource::Sampler(sampler)));
+    }
+    bind_group(device, "volfog fog", layout, &resources)
+}
+
+/// The sampler the fog group expects: linear filtering, clamp to edge.
 pub fn fog_sampler(device: &wgpu::Device) -> wgpu::Sampler {
     device.create_sampler(&wgpu::SamplerDescriptor {
         label: Some("volfog integrated volume"),
@@ -64,156 +79,114 @@ pub const FOG_BLEND: wgpu::BlendState = wgpu::BlendState {
     },
 };
 
-/// The compiled fullscreen apply pass.
-#[derive(Debug)]
-pub struct ApplyPass {
-    filtering: Filtering,
-    layout: wgpu::BindGroupLayout,
-    pipeline: wgpu::RenderPipeline,
-    sampler: wgpu::Sampler,
+/// The layout entries of the apply pass's group 1: binding 0, the scene depth (2D,
+/// unfilterable float view of a depth texture).
+pub fn depth_layout_entries() -> [wgpu::BindGroupLayoutEntry; 1] {
+    [texture_entry(
+        0,
+        wgpu::ShaderStages::FRAGMENT,
+        wgpu::TextureViewDimension::D2,
+        false,
+    )]
 }
 
-impl ApplyPass {
-    /// The prebuilt variant for a filtering mode.
-    pub fn variant(filtering: Filtering) -> &'static str {
-        match filtering {
-            Filtering::Sampler => "apply@default",
-            Filtering::Manual => "apply@BINDINGS_NO_SAMPLER",
-        }
-    }
+/// The compiled fullscreen apply pass for one colour format: draws into the caller's
+/// render pass with the fog group at group 0 and a depth group at group 1.
+#[derive(Debug)]
+pub struct ApplyPipeline {
+    filtering: Filtering,
+    format: wgpu::TextureFormat,
+    depth_layout: wgpu::BindGroupLayout,
+    pipeline: wgpu::RenderPipeline,
+}
 
-    /// Layout: the `volfog::bindings` entries plus 4, the scene depth (2D,
-    /// unfilterable float view of a depth texture).
-    pub fn layout_entries(filtering: Filtering) -> Vec<wgpu::BindGroupLayoutEntry> {
-        let mut entries = fog_layout_entries(filtering, wgpu::ShaderStages::FRAGMENT);
-        entries.push(texture_entry(
-            4,
-            wgpu::ShaderStages::FRAGMENT,
-            wgpu::TextureViewDimension::D2,
-            false,
-        ));
-        entries
-    }
-
-    /// Compiles the pass for a colour target format.
+impl ApplyPipeline {
+    /// Compiles the pass for fog groups laid out by `fog_layout` (built from
+    /// [`fog_layout_entries`] with `filtering`) and a colour target of `format`.
     pub fn new(
         device: &wgpu::Device,
+        fog_layout: &wgpu::BindGroupLayout,
         filtering: Filtering,
-        color_format: wgpu::TextureFormat,
-    ) -> Self {
-        let variant = Self::variant(filtering);
-        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("volfog apply"),
-            entries: &Self::layout_entries(filtering),
-        });
-        let vs = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-            label: Some("volfog apply_vs"),
-            source: wgpu::ShaderSource::Wgsl(prebuilt_wgsl(variant, "apply_vs").into()),
-        });
-        let fs = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-            label: Some("volfog apply_fs"),
-            source: wgpu::ShaderSource::Wgsl(prebuilt_wgsl(variant, "apply_fs").into()),
-        });
-        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some("volfog apply"),
-            bind_group_layouts: &[Some(&layout)],
-            immediate_size: 0,
-        });
-        let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-            label: Some("volfog apply"),
-            layout: Some(&pipeline_layout),
-            vertex: wgpu::VertexState {
-                module: &vs,
-                entry_point: Some("apply_vs"),
-                compilation_options: Default::default(),
+        format: wgpu::TextureFormat,
+    ) -> Result<Self, CodegenError> {
+        let vs = shader_module(device, "fullscreen", &[])?;
+        let fs = shader_module(device, "apply", &filtering.defines())?;
+        let depth_layout = bind_group_layout(device, "volfog apply depth", &depth_layout_entries());
+        let pipeline = render_pipeline(
+            device,
+            RenderPipelineDesc {
+                label: "volfog apply",
+                vertex: (&vs, "fullscreen_vs"),
+                fragment: (&fs, "apply_fs"),
+                bind_group_layouts: &[Some(fog_layout), Some(&depth_layout)],
                 buffers: &[],
-            },
-            primitive: wgpu::PrimitiveState::default(),
-            depth_stencil: None,
-            multisample: wgpu::MultisampleState::default(),
-            fragment: Some(wgpu::FragmentState {
-                module: &fs,
-                entry_point: Some("apply_fs"),
-                compilation_options: Default::default(),
-                targets: &[Some(wgpu::ColorTargetState {
-                    format: color_format,
+                primitive: wgpu::PrimitiveState::default(),
+                target: wgpu::ColorTargetState {
+                    format,
                     blend: Some(FOG_BLEND),
                     write_mask: wgpu::ColorWrites::ALL,
-                })],
-            }),
-            multiview_mask: None,
-            cache: None,
-        });
-        Self {
+                },
+            },
+        );
+        Ok(Self {
             filtering,
-            layout,
+            format,
+            depth_layout,
             pipeline,
-            sampler: fog_sampler(device),
-        }
-    }
-
-    /// The bind group layout.
-    pub fn bind_group_layout(&self) -> &wgpu::BindGroupLayout {
-        &self.layout
-    }
-
-    /// A bind group: froxels uniform, integrated volume view, the view-space
-    /// `HeightFog` tail uniform and the scene depth view (a depth-aspect view of the
-    /// depth texture).
-    pub fn bind_group(
-        &self,
-        device: &wgpu::Device,
-        froxels: &wgpu::Buffer,
-        integrated: &wgpu::TextureView,
-        tail: &wgpu::Buffer,
-        depth: &wgpu::TextureView,
-    ) -> wgpu::BindGroup {
-        let mut entries = vec![
-            wgpu::BindGroupEntry {
-                binding: 0,
-                resource: froxels.as_entire_binding(),
-            },
-            wgpu::BindGroupEntry {
-                binding: 1,
-                resource: wgpu::BindingResource::TextureView(integrated),
-            },
-            wgpu::BindGroupEntry {
-                binding: 3,
-                resource: tail.as_entire_binding(),
-            },
-            wgpu::BindGroupEntry {
-                binding: 4,
-                resource: wgpu::BindingResource::TextureView(depth),
-            },
-        ];
-        if self.filtering == Filtering::Sampler {
-            entries.push(wgpu::BindGroupEntry {
-                binding: 2,
-                resource: wgpu::BindingResource::Sampler(&self.sampler),
-            });
-        }
-        device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("volfog apply"),
-            layout: &self.layout,
-            entries: &entries,
         })
     }
 
+    /// The filtering of the fog groups this pipeline reads.
+    pub fn filtering(&self) -> Filtering {
+        self.filtering
+    }
+
+    /// The colour target format.
+    pub fn format(&self) -> wgpu::TextureFormat {
+        self.format
+    }
+
+    /// The layout of group 1 (the scene depth).
+    pub fn depth_bind_group_layout(&self) -> &wgpu::BindGroupLayout {
+        &self.depth_layout
+    }
+
+    /// Group 1 for a scene depth view (a depth-aspect view of the depth texture, the
+    /// size of the colour target); build it once per depth texture.
+    pub fn depth_bind_group(
+        &self,
+        device: &wgpu::Device,
+        depth: &wgpu::TextureView,
+    ) -> wgpu::BindGroup {
+        bind_group(
+            device,
+            "volfog apply depth",
+            &self.depth_layout,
+            &[(0, wgpu::BindingResource::TextureView(depth))],
+        )
+    }
+
     /// Records the fullscreen draw into a render pass whose colour attachment is the
-    /// lit scene (loaded, not cleared).
-    pub fn encode(&self, pass: &mut wgpu::RenderPass<'_>, bind_group: &wgpu::BindGroup) {
+    /// lit scene (loaded, not cleared), reading `fog_group` and `depth_group`.
+    pub fn draw(
+        &self,
+        pass: &mut wgpu::RenderPass<'_>,
+        fog_group: &wgpu::BindGroup,
+        depth_group: &wgpu::BindGroup,
+    ) {
         pass.set_pipeline(&self.pipeline);
-        pass.set_bind_group(0, bind_group, &[]);
+        pass.set_bind_group(0, fog_group, &[]);
+        pass.set_bind_group(1, depth_group, &[]);
         pass.draw(0..3, 0..1);
     }
 
-    /// Records a render pass that loads the lit colour target `color` and blends the
-    /// fog onto it (the fullscreen draw of [`ApplyPass::encode`]).
+    /// Records a render pass that loads `color` and blends the fog onto it.
     pub fn record(
         &self,
         encoder: &mut wgpu::CommandEncoder,
         color: &wgpu::TextureView,
-        bind_group: &wgpu::BindGroup,
+        fog_group: &wgpu::BindGroup,
+        depth_group: &wgpu::BindGroup,
         timestamp_writes: Option<wgpu::RenderPassTimestampWrites<'_>>,
     ) {
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
@@ -232,6 +205,6 @@ impl ApplyPass {
             occlusion_query_set: None,
             multiview_mask: None,
         });
-        self.encode(&mut pass, bind_group);
+        self.draw(&mut pass, fog_group, depth_group);
     }
 }

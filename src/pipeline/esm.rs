@@ -2,10 +2,16 @@
 //! separable box blur (`shaders/passes/esm_downsample.wgsl`, `esm_blur.wgsl`).
 
 use super::{
-    bind_group, compute_pipeline, sampler_entry, storage_entry, texture_entry, uniform_entry,
-    variant_wgsl,
+    bind_group, bind_group_layout, compute_pipeline, sampler_entry, shader_module, storage_entry,
+    texture_entry, uniform_entry,
 };
-use crate::codegen::CodegenError;
+use crate::options::EsmOptions;
+use crate::shaders::CodegenError;
+
+/// Workgroup size of the downsample (x, y; one cascade per z).
+pub const DOWNSAMPLE_WORKGROUP: u32 = 8;
+/// Texels one blur workgroup filters along its line (WGSL `GROUP`).
+pub const BLUR_GROUP: u32 = 64;
 
 /// The ESM texel format.
 pub const ESM_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Float;
@@ -51,42 +57,34 @@ impl EsmPasses {
         ]
     }
 
-    /// Compiles the passes: log-space filtering or not, blur radius (11 taps = 5).
-    pub fn new(
-        device: &wgpu::Device,
-        log_space: bool,
-        blur_radius: u32,
-    ) -> Result<Self, CodegenError> {
-        let mut defines = Vec::new();
-        if log_space {
-            defines.push("VOLFOG_ESM_LOG_SPACE".to_string());
-        }
-        let downsample_wgsl = variant_wgsl("esm_downsample", &defines, "esm_downsample")?;
-        if blur_radius != 5 {
-            defines.push(format!("VOLFOG_ESM_BLUR_RADIUS={blur_radius}"));
-        }
-        let blur_x_wgsl = variant_wgsl("esm_blur", &defines, "esm_blur_x")?;
-        let blur_y_wgsl = variant_wgsl("esm_blur", &defines, "esm_blur_y")?;
-        let (downsample_layout, downsample) = compute_pipeline(
+    /// Compiles the passes for the options.
+    pub fn new(device: &wgpu::Device, options: &EsmOptions) -> Result<Self, CodegenError> {
+        let downsample_module =
+            shader_module(device, "esm_downsample", &options.downsample_defines())?;
+        let blur_module = shader_module(device, "esm_blur", &options.blur_defines())?;
+        let downsample_layout =
+            bind_group_layout(device, "volfog esm_downsample", &Self::downsample_entries());
+        let blur_layout = bind_group_layout(device, "volfog esm_blur", &Self::blur_entries());
+        let downsample = compute_pipeline(
             device,
             "volfog esm_downsample",
-            &downsample_wgsl,
+            &downsample_module,
             "esm_downsample",
-            &Self::downsample_entries(),
+            &downsample_layout,
         );
-        let (blur_layout, blur_x) = compute_pipeline(
+        let blur_x = compute_pipeline(
             device,
             "volfog esm_blur_x",
-            &blur_x_wgsl,
+            &blur_module,
             "esm_blur_x",
-            &Self::blur_entries(),
+            &blur_layout,
         );
-        let (_, blur_y) = compute_pipeline(
+        let blur_y = compute_pipeline(
             device,
             "volfog esm_blur_y",
-            &blur_y_wgsl,
+            &blur_module,
             "esm_blur_y",
-            &Self::blur_entries(),
+            &blur_layout,
         );
         let gather_sampler = device.create_sampler(&wgpu::SamplerDescriptor {
             label: Some("volfog esm gather"),
@@ -151,7 +149,11 @@ impl EsmPasses {
     ) {
         pass.set_pipeline(&self.downsample);
         pass.set_bind_group(0, group, &[]);
-        pass.dispatch_workgroups(size.div_ceil(8), size.div_ceil(8), layers);
+        pass.dispatch_workgroups(
+            size.div_ceil(DOWNSAMPLE_WORKGROUP),
+            size.div_ceil(DOWNSAMPLE_WORKGROUP),
+            layers,
+        );
     }
 
     /// Records one blur pass (`axis` 0: x, 1: y) over an ESM of `size` x `size`.
@@ -169,6 +171,6 @@ impl EsmPasses {
             &self.blur_y
         });
         pass.set_bind_group(0, group, &[]);
-        pass.dispatch_workgroups(size.div_ceil(64), size, layers);
+        pass.dispatch_workgroups(size.div_ceil(BLUR_GROUP), size, layers);
     }
 }

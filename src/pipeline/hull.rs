@@ -10,8 +10,12 @@
 //!
 //! [`FogHull`]: crate::uniforms::FogHull
 
-use super::{prebuilt_wgsl, texture_entry, uniform_entry};
+use super::{
+    RenderPipelineDesc, bind_group_layout, render_pipeline, shader_module, texture_entry,
+    uniform_entry,
+};
 use crate::pipeline::apply::FOG_BLEND;
+use crate::shaders::CodegenError;
 
 /// Bytes per hull vertex: one `Float32x3` world position.
 pub const VERTEX_STRIDE: u64 = 12;
@@ -75,7 +79,7 @@ impl HullSumFormat {
 }
 
 /// Errors creating the hull passes.
-#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[derive(Debug, thiserror::Error)]
 pub enum HullError {
     /// `HullSumFormat::Full` was asked for on a device without `FLOAT32_BLENDABLE`.
     #[error(
@@ -83,6 +87,9 @@ pub enum HullError {
          use HullSumFormat::Half (or HullSumFormat::best)"
     )]
     Float32BlendableMissing,
+    /// Composing a shader failed.
+    #[error(transparent)]
+    Shader(#[from] CodegenError),
 }
 
 /// A hull-sum texture of `size` pixels (the scene depth buffer's size): render
@@ -135,57 +142,6 @@ fn bind_group(
     })
 }
 
-/// A render pipeline of a prebuilt variant with one bind group layout.
-struct RenderPipelineDesc<'a> {
-    label: &'a str,
-    variant: &'a str,
-    vs: &'a str,
-    fs: &'a str,
-    buffers: &'a [Option<wgpu::VertexBufferLayout<'a>>],
-    primitive: wgpu::PrimitiveState,
-    target: wgpu::ColorTargetState,
-}
-
-fn render_pipeline(
-    device: &wgpu::Device,
-    layout: &wgpu::BindGroupLayout,
-    desc: RenderPipelineDesc<'_>,
-) -> wgpu::RenderPipeline {
-    let module = |entry: &str| {
-        device.create_shader_module(wgpu::ShaderModuleDescriptor {
-            label: Some(entry),
-            source: wgpu::ShaderSource::Wgsl(prebuilt_wgsl(desc.variant, entry).into()),
-        })
-    };
-    let (vs, fs) = (module(desc.vs), module(desc.fs));
-    let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-        label: Some(desc.label),
-        bind_group_layouts: &[Some(layout)],
-        immediate_size: 0,
-    });
-    device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-        label: Some(desc.label),
-        layout: Some(&pipeline_layout),
-        vertex: wgpu::VertexState {
-            module: &vs,
-            entry_point: Some(desc.vs),
-            compilation_options: Default::default(),
-            buffers: desc.buffers,
-        },
-        primitive: desc.primitive,
-        depth_stencil: None,
-        multisample: wgpu::MultisampleState::default(),
-        fragment: Some(wgpu::FragmentState {
-            module: &fs,
-            entry_point: Some(desc.fs),
-            compilation_options: Default::default(),
-            targets: &[Some(desc.target)],
-        }),
-        multiview_mask: None,
-        cache: None,
-    })
-}
-
 /// The compiled `hull_thickness` pass.
 #[derive(Debug)]
 pub struct HullThicknessPass {
@@ -195,9 +151,6 @@ pub struct HullThicknessPass {
 }
 
 impl HullThicknessPass {
-    /// The prebuilt variant.
-    pub const VARIANT: &'static str = "hull_thickness@default";
-
     /// The bind group layout: 0 `FogHull` uniform (vertex and fragment), 1 scene
     /// depth (2D, unfilterable float view of a depth texture).
     pub fn layout_entries() -> [wgpu::BindGroupLayoutEntry; 2] {
@@ -240,18 +193,15 @@ impl HullThicknessPass {
         {
             return Err(HullError::Float32BlendableMissing);
         }
-        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("volfog hull_thickness"),
-            entries: &Self::layout_entries(),
-        });
+        let module = shader_module(device, "hull_thickness", &[])?;
+        let layout = bind_group_layout(device, "volfog hull_thickness", &Self::layout_entries());
         let pipeline = render_pipeline(
             device,
-            &layout,
             RenderPipelineDesc {
                 label: "volfog hull_thickness",
-                variant: Self::VARIANT,
-                vs: "hull_thickness_vs",
-                fs: "hull_thickness_fs",
+                vertex: (&module, "hull_thickness_vs"),
+                fragment: (&module, "hull_thickness_fs"),
+                bind_group_layouts: &[Some(&layout)],
                 buffers: &[Some(Self::vertex_layout())],
                 primitive: Self::primitive(),
                 target: wgpu::ColorTargetState {
@@ -321,9 +271,6 @@ pub struct HullCompositePass {
 }
 
 impl HullCompositePass {
-    /// The prebuilt variant.
-    pub const VARIANT: &'static str = "hull_composite@default";
-
     /// The bind group layout: 0 `FogHull` uniform, 1 hull sum (2D, unfilterable float).
     pub fn layout_entries() -> [wgpu::BindGroupLayoutEntry; 2] {
         [
@@ -339,19 +286,20 @@ impl HullCompositePass {
 
     /// Compiles the pass for a colour target format; it blends with
     /// `apply::FOG_BLEND` (`dst * T + L`).
-    pub fn new(device: &wgpu::Device, color_format: wgpu::TextureFormat) -> Self {
-        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("volfog hull_composite"),
-            entries: &Self::layout_entries(),
-        });
+    pub fn new(
+        device: &wgpu::Device,
+        color_format: wgpu::TextureFormat,
+    ) -> Result<Self, CodegenError> {
+        let vs = shader_module(device, "fullscreen", &[])?;
+        let fs = shader_module(device, "hull_composite", &[])?;
+        let layout = bind_group_layout(device, "volfog hull_composite", &Self::layout_entries());
         let pipeline = render_pipeline(
             device,
-            &layout,
             RenderPipelineDesc {
                 label: "volfog hull_composite",
-                variant: Self::VARIANT,
-                vs: "hull_composite_vs",
-                fs: "hull_composite_fs",
+                vertex: (&vs, "fullscreen_vs"),
+                fragment: (&fs, "hull_composite_fs"),
+                bind_group_layouts: &[Some(&layout)],
                 buffers: &[],
                 primitive: wgpu::PrimitiveState::default(),
                 target: wgpu::ColorTargetState {
@@ -361,7 +309,7 @@ impl HullCompositePass {
                 },
             },
         );
-        Self { layout, pipeline }
+        Ok(Self { layout, pipeline })
     }
 
     /// The bind group layout.

@@ -2,51 +2,15 @@
 //! (`shaders/passes/inject.wgsl`).
 
 use super::{
-    bind_group, compute_pipeline, sampler_entry, storage_buffer_entry, storage_entry,
-    texture_entry, uniform_entry, variant_wgsl,
+    bind_group, bind_group_layout, compute_pipeline, sampler_entry, shader_module,
+    storage_buffer_entry, storage_entry, texture_entry, uniform_entry,
 };
-use crate::codegen::CodegenError;
+use crate::limits::InvalidValue;
+pub use crate::options::InjectOptions;
+use crate::shaders::CodegenError;
 
-/// Options of the inject pass that select its variant.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct InjectOptions {
-    /// Jittered sample positions (`VOLFOG_INJECT_JITTER`).
-    pub jitter: bool,
-    /// AC4 two-colour sun phase (`VOLFOG_INJECT_TWO_COLOR_PHASE`).
-    pub two_color_phase: bool,
-    /// Density texture (`VOLFOG_INJECT_DENSITY_TEXTURE`).
-    pub density_texture: bool,
-    /// Log-space ESM (`VOLFOG_ESM_LOG_SPACE`).
-    pub esm_log_space: bool,
-    /// fbm octaves, 1..=8 (`VOLFOG_INJECT_NOISE_OCTAVES`).
-    pub noise_octaves: u32,
-}
-
-impl InjectOptions {
-    /// The define set of these options.
-    pub fn defines(&self) -> Vec<String> {
-        let mut d = Vec::new();
-        if self.esm_log_space {
-            d.push("VOLFOG_ESM_LOG_SPACE".to_string());
-        }
-        if self.jitter {
-            d.push("VOLFOG_INJECT_JITTER".to_string());
-        }
-        if self.two_color_phase {
-            d.push("VOLFOG_INJECT_TWO_COLOR_PHASE".to_string());
-        }
-        if self.density_texture {
-            d.push("VOLFOG_INJECT_DENSITY_TEXTURE".to_string());
-        }
-        if self.noise_octaves != 1 {
-            d.push(format!(
-                "VOLFOG_INJECT_NOISE_OCTAVES={}",
-                self.noise_octaves
-            ));
-        }
-        d
-    }
-}
+/// Workgroup size of the inject pass (each axis).
+pub const WORKGROUP: u32 = 4;
 
 /// Resources of one inject dispatch.
 #[derive(Debug)]
@@ -69,7 +33,8 @@ pub struct InjectResources<'a> {
     pub local_volumes: &'a wgpu::Buffer,
     /// Output scattering volume.
     pub scattering: &'a wgpu::TextureView,
-    /// Density texture and its sampler (density-texture variant only).
+    /// Density texture and its sampler (required by the density-texture variant,
+    /// ignored by the others).
     pub density_texture: Option<(&'a wgpu::TextureView, &'a wgpu::Sampler)>,
 }
 
@@ -82,6 +47,11 @@ pub struct InjectPass {
 }
 
 impl InjectPass {
+    /// The options the pass was compiled for.
+    pub fn options(&self) -> &InjectOptions {
+        &self.options
+    }
+
     /// The bind group layout of a variant (see the pass header for the bindings).
     pub fn layout_entries(options: &InjectOptions) -> Vec<wgpu::BindGroupLayoutEntry> {
         let c = wgpu::ShaderStages::COMPUTE;
@@ -92,8 +62,8 @@ impl InjectPass {
             uniform_entry(3, c),
             uniform_entry(4, c),
             texture_entry(5, c, wgpu::TextureViewDimension::D2Array, false),
-            storage_buffer_entry(6, c),
-            storage_buffer_entry(7, c),
+            storage_buffer_entry(6, c, true),
+            storage_buffer_entry(7, c, true),
             storage_entry(
                 8,
                 wgpu::TextureViewDimension::D3,
@@ -109,14 +79,9 @@ impl InjectPass {
 
     /// Compiles the variant for `options`.
     pub fn new(device: &wgpu::Device, options: InjectOptions) -> Result<Self, CodegenError> {
-        let wgsl = variant_wgsl("inject", &options.defines(), "inject")?;
-        let (layout, pipeline) = compute_pipeline(
-            device,
-            "volfog inject",
-            &wgsl,
-            "inject",
-            &Self::layout_entries(&options),
-        );
+        let module = shader_module(device, "inject", &options.defines())?;
+        let layout = bind_group_layout(device, "volfog inject", &Self::layout_entries(&options));
+        let pipeline = compute_pipeline(device, "volfog inject", &module, "inject", &layout);
         Ok(Self {
             options,
             layout,
@@ -125,7 +90,11 @@ impl InjectPass {
     }
 
     /// A bind group for the resources.
-    pub fn bind_group(&self, device: &wgpu::Device, r: &InjectResources<'_>) -> wgpu::BindGroup {
+    pub fn bind_group(
+        &self,
+        device: &wgpu::Device,
+        r: &InjectResources<'_>,
+    ) -> Result<wgpu::BindGroup, InvalidValue> {
         let mut resources = vec![
             (0, r.froxels.as_entire_binding()),
             (1, r.frame.as_entire_binding()),
@@ -138,13 +107,22 @@ impl InjectPass {
             (8, wgpu::BindingResource::TextureView(r.scattering)),
         ];
         if self.options.density_texture {
-            let (view, sampler) = r
-                .density_texture
-                .expect("the density-texture variant needs a texture");
+            let Some((view, sampler)) = r.density_texture else {
+                return Err(InvalidValue {
+                    field: "InjectResources.density_texture",
+                    value: "None".to_string(),
+                    expected: "a texture and sampler for the density-texture variant".into(),
+                });
+            };
             resources.push((9, wgpu::BindingResource::TextureView(view)));
             resources.push((10, wgpu::BindingResource::Sampler(sampler)));
         }
-        bind_group(device, "volfog inject", &self.layout, &resources)
+        Ok(bind_group(
+            device,
+            "volfog inject",
+            &self.layout,
+            &resources,
+        ))
     }
 
     /// Records the injection into a volume of `size` froxels.
@@ -157,9 +135,9 @@ impl InjectPass {
         pass.set_pipeline(&self.pipeline);
         pass.set_bind_group(0, group, &[]);
         pass.dispatch_workgroups(
-            size[0].div_ceil(4),
-            size[1].div_ceil(4),
-            size[2].div_ceil(4),
+            size[0].div_ceil(WORKGROUP),
+            size[1].div_ceil(WORKGROUP),
+            size[2].div_ceil(WORKGROUP),
         );
     }
 }

@@ -1,50 +1,61 @@
-//! The wgpu runtime: each pass with its bind group layout spelled out (and checked
-//! against the shader's reflection by the tests), created from the flattened WGSL of
-//! its variant (prebuilt, or composed at run time for non-default values), and
-//! [`VolumetricFog`], which owns the whole froxel pipeline.
+//! The wgpu runtime: each pass with its bind group layout spelled out (and compared
+//! with the shader's reflection by the tests), compiled from the naga module of its
+//! variant, and [`VolumetricFog`], which owns the whole froxel pipeline.
+//!
+//! Passes: [`esm`] (shadow map -> filtered ESM), [`inject`] (density and lighting),
+//! [`temporal`] (reprojection), [`scan`] (front-to-back integration), [`apply`] (the
+//! fog group, and the fullscreen apply), [`hull`] (Boyd's fog hulls).
 
 pub mod apply;
 pub mod esm;
-pub mod fog;
+mod fog;
 pub mod hull;
 pub mod inject;
 pub mod scan;
 pub mod temporal;
+mod timestamps;
 
 use std::borrow::Cow;
 
 pub use fog::{
-    FogConfig, FogError, FogPass, FrameInputs, PassTimings, ShadowInputs, UploadedUniforms,
-    VolumetricFog,
+    FogConfig, FogError, FogPass, FrameInputs, FrameUniforms, PassTimings, SHADOW_MAP_FORMATS,
+    VOLUME_FORMAT, VolumetricFog, cascade_projection, cascade_splits, check_device,
 };
+pub use timestamps::{TimestampError, TimestampPairs};
+
+use crate::shaders::CodegenError;
 
 /// A uniform-buffer layout entry.
 pub(crate) fn uniform_entry(
     binding: u32,
     visibility: wgpu::ShaderStages,
 ) -> wgpu::BindGroupLayoutEntry {
-    wgpu::BindGroupLayoutEntry {
-        binding,
-        visibility,
-        ty: wgpu::BindingType::Buffer {
-            ty: wgpu::BufferBindingType::Uniform,
-            has_dynamic_offset: false,
-            min_binding_size: None,
-        },
-        count: None,
-    }
+    buffer_entry(binding, visibility, wgpu::BufferBindingType::Uniform)
 }
 
-/// A read-only storage-buffer layout entry.
+/// A storage-buffer layout entry.
 pub(crate) fn storage_buffer_entry(
     binding: u32,
     visibility: wgpu::ShaderStages,
+    read_only: bool,
+) -> wgpu::BindGroupLayoutEntry {
+    buffer_entry(
+        binding,
+        visibility,
+        wgpu::BufferBindingType::Storage { read_only },
+    )
+}
+
+fn buffer_entry(
+    binding: u32,
+    visibility: wgpu::ShaderStages,
+    ty: wgpu::BufferBindingType,
 ) -> wgpu::BindGroupLayoutEntry {
     wgpu::BindGroupLayoutEntry {
         binding,
         visibility,
         ty: wgpu::BindingType::Buffer {
-            ty: wgpu::BufferBindingType::Storage { read_only: true },
+            ty,
             has_dynamic_offset: false,
             min_binding_size: None,
         },
@@ -107,67 +118,98 @@ pub(crate) fn sampler_entry(
     }
 }
 
-/// The WGSL of a prebuilt variant's entry point.
-pub(crate) fn prebuilt_wgsl(variant: &str, entry: &str) -> &'static str {
-    crate::shaders::variant(variant)
-        .and_then(|v| v.entry(entry))
-        .map(|e| e.wgsl)
-        .unwrap_or_else(|| panic!("variant {variant} entry {entry} is prebuilt by build.rs"))
-}
-
-/// The WGSL of a pass entry point under a define set (`NAME` / `NAME=VALUE`): the
-/// prebuilt variant when one matches, otherwise a composition at run time.
-pub(crate) fn variant_wgsl(
+/// The shader module of a pass under a define set, composed and validated by naga and
+/// handed to wgpu as a naga module.
+pub(crate) fn shader_module(
+    device: &wgpu::Device,
     pass: &str,
     defines: &[String],
-    entry: &str,
-) -> Result<Cow<'static, str>, crate::codegen::CodegenError> {
-    let source = crate::manifest::pass(pass).expect("pass listed in the manifest");
-    let parsed = crate::codegen::compose::Defines::parse(source, defines)?;
-    let name = parsed.variant_name(pass);
-    if let Some(e) = crate::shaders::variant(&name).and_then(|v| v.entry(entry)) {
-        return Ok(Cow::Borrowed(e.wgsl));
-    }
-    let composed = crate::shaders::compose_variant(pass, defines)?;
-    let text = composed
-        .entries
-        .into_iter()
-        .find(|e| e.entry == entry)
-        .map(|e| e.wgsl)
-        .expect("the pass has this entry point");
-    Ok(Cow::Owned(text))
+) -> Result<wgpu::ShaderModule, CodegenError> {
+    let module = crate::shaders::compose(pass, defines)?;
+    Ok(device.create_shader_module(wgpu::ShaderModuleDescriptor {
+        label: Some(&format!("volfog {pass}")),
+        source: wgpu::ShaderSource::Naga(Cow::Owned(module)),
+    }))
 }
 
-/// A compute pipeline with an explicit bind group layout (group 0).
+/// A bind group layout from its entries.
+pub(crate) fn bind_group_layout(
+    device: &wgpu::Device,
+    label: &str,
+    entries: &[wgpu::BindGroupLayoutEntry],
+) -> wgpu::BindGroupLayout {
+    device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+        label: Some(label),
+        entries,
+    })
+}
+
+/// A compute pipeline for `entry` of `module` with group 0 laid out by `layout`.
 pub(crate) fn compute_pipeline(
     device: &wgpu::Device,
     label: &str,
-    wgsl: &str,
+    module: &wgpu::ShaderModule,
     entry: &str,
-    entries: &[wgpu::BindGroupLayoutEntry],
-) -> (wgpu::BindGroupLayout, wgpu::ComputePipeline) {
-    let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-        label: Some(label),
-        entries,
-    });
-    let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-        label: Some(label),
-        source: wgpu::ShaderSource::Wgsl(Cow::Owned(wgsl.to_string())),
-    });
+    layout: &wgpu::BindGroupLayout,
+) -> wgpu::ComputePipeline {
     let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
         label: Some(label),
-        bind_group_layouts: &[Some(&layout)],
+        bind_group_layouts: &[Some(layout)],
         immediate_size: 0,
     });
-    let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+    device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
         label: Some(label),
         layout: Some(&pipeline_layout),
-        module: &module,
+        module,
         entry_point: Some(entry),
         compilation_options: Default::default(),
         cache: None,
+    })
+}
+
+/// A render pipeline drawing into one colour target without depth.
+pub(crate) struct RenderPipelineDesc<'a> {
+    pub label: &'a str,
+    /// Vertex module and entry point.
+    pub vertex: (&'a wgpu::ShaderModule, &'a str),
+    /// Fragment module and entry point.
+    pub fragment: (&'a wgpu::ShaderModule, &'a str),
+    pub bind_group_layouts: &'a [Option<&'a wgpu::BindGroupLayout>],
+    pub buffers: &'a [Option<wgpu::VertexBufferLayout<'a>>],
+    pub primitive: wgpu::PrimitiveState,
+    pub target: wgpu::ColorTargetState,
+}
+
+pub(crate) fn render_pipeline(
+    device: &wgpu::Device,
+    desc: RenderPipelineDesc<'_>,
+) -> wgpu::RenderPipeline {
+    let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+        label: Some(desc.label),
+        bind_group_layouts: desc.bind_group_layouts,
+        immediate_size: 0,
     });
-    (layout, pipeline)
+    device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+        label: Some(desc.label),
+        layout: Some(&pipeline_layout),
+        vertex: wgpu::VertexState {
+            module: desc.vertex.0,
+            entry_point: Some(desc.vertex.1),
+            compilation_options: Default::default(),
+            buffers: desc.buffers,
+        },
+        primitive: desc.primitive,
+        depth_stencil: None,
+        multisample: wgpu::MultisampleState::default(),
+        fragment: Some(wgpu::FragmentState {
+            module: desc.fragment.0,
+            entry_point: Some(desc.fragment.1),
+            compilation_options: Default::default(),
+            targets: &[Some(desc.target)],
+        }),
+        multiview_mask: None,
+        cache: None,
+    })
 }
 
 /// A bind group from (binding, resource) pairs.

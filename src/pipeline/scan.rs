@@ -2,9 +2,11 @@
 //! integrated volume (`shaders/passes/scan.wgsl`).
 
 use super::{
-    bind_group, compute_pipeline, prebuilt_wgsl, storage_entry, texture_entry, uniform_entry,
+    bind_group, bind_group_layout, compute_pipeline, shader_module, storage_entry, texture_entry,
+    uniform_entry,
 };
-use crate::cpu::scan::ScanStep;
+use crate::options::ScanStep;
+use crate::shaders::CodegenError;
 
 /// Workgroup size of the scan (x, y).
 pub const WORKGROUP: u32 = 8;
@@ -17,25 +19,13 @@ pub struct ScanPass {
 }
 
 impl ScanPass {
-    /// The prebuilt variant used for a scan step.
-    pub fn variant(step: ScanStep) -> &'static str {
-        match step {
-            ScanStep::EnergyConserving => "scan@default",
-            ScanStep::Wronski => "scan@SCAN_WRONSKI_STEP",
-        }
-    }
-
     /// The bind group layout: 0 `Froxels` uniform, 1 scattering volume (3D float,
     /// read with textureLoad), 2 integrated volume (3D rgba16float, write-only storage).
     pub fn layout_entries() -> [wgpu::BindGroupLayoutEntry; 3] {
+        let c = wgpu::ShaderStages::COMPUTE;
         [
-            uniform_entry(0, wgpu::ShaderStages::COMPUTE),
-            texture_entry(
-                1,
-                wgpu::ShaderStages::COMPUTE,
-                wgpu::TextureViewDimension::D3,
-                false,
-            ),
+            uniform_entry(0, c),
+            texture_entry(1, c, wgpu::TextureViewDimension::D3, false),
             storage_entry(
                 2,
                 wgpu::TextureViewDimension::D3,
@@ -45,15 +35,11 @@ impl ScanPass {
     }
 
     /// Compiles the pass.
-    pub fn new(device: &wgpu::Device, step: ScanStep) -> Self {
-        let (layout, pipeline) = compute_pipeline(
-            device,
-            "volfog scan",
-            prebuilt_wgsl(Self::variant(step), "scan"),
-            "scan",
-            &Self::layout_entries(),
-        );
-        Self { layout, pipeline }
+    pub fn new(device: &wgpu::Device, step: ScanStep) -> Result<Self, CodegenError> {
+        let module = shader_module(device, "scan", &step.defines())?;
+        let layout = bind_group_layout(device, "volfog scan", &Self::layout_entries());
+        let pipeline = compute_pipeline(device, "volfog scan", &module, "scan", &layout);
+        Ok(Self { layout, pipeline })
     }
 
     /// The bind group layout.

@@ -2,9 +2,32 @@
 //! (`shaders/passes/temporal.wgsl`).
 
 use super::{
-    bind_group, compute_pipeline, prebuilt_wgsl, sampler_entry, storage_entry, texture_entry,
-    uniform_entry,
+    bind_group, bind_group_layout, compute_pipeline, sampler_entry, shader_module,
+    storage_buffer_entry, storage_entry, texture_entry, uniform_entry,
 };
+use crate::shaders::CodegenError;
+
+/// Workgroup size of the temporal pass (each axis).
+pub const WORKGROUP: u32 = 4;
+
+/// Resources of one temporal dispatch.
+#[derive(Debug)]
+pub struct TemporalResources<'a> {
+    /// `Froxels` uniform.
+    pub froxels: &'a wgpu::Buffer,
+    /// `FogFrame` uniform.
+    pub frame: &'a wgpu::Buffer,
+    /// This frame's scattering volume.
+    pub current: &'a wgpu::TextureView,
+    /// The history volume.
+    pub history: &'a wgpu::TextureView,
+    /// The history's `HistoryState` (80-byte storage buffer).
+    pub history_state: &'a wgpu::Buffer,
+    /// The stabilised volume this dispatch writes.
+    pub stabilised: &'a wgpu::TextureView,
+    /// Its `HistoryState`, written by the dispatch.
+    pub stabilised_state: &'a wgpu::Buffer,
+}
 
 /// The compiled temporal pass.
 #[derive(Debug)]
@@ -16,8 +39,9 @@ pub struct TemporalPass {
 
 impl TemporalPass {
     /// Layout: 0 `Froxels`, 1 `FogFrame`, 2 current volume (unfilterable read),
-    /// 3 history (filterable), 4 linear sampler, 5 stabilised output.
-    pub fn layout_entries() -> [wgpu::BindGroupLayoutEntry; 6] {
+    /// 3 history (filterable), 4 linear sampler, 5 stabilised output, 6 the history's
+    /// `HistoryState` (read), 7 the stabilised volume's `HistoryState` (read-write).
+    pub fn layout_entries() -> [wgpu::BindGroupLayoutEntry; 8] {
         let c = wgpu::ShaderStages::COMPUTE;
         [
             uniform_entry(0, c),
@@ -30,46 +54,38 @@ impl TemporalPass {
                 wgpu::TextureViewDimension::D3,
                 wgpu::TextureFormat::Rgba16Float,
             ),
+            storage_buffer_entry(6, c, true),
+            storage_buffer_entry(7, c, false),
         ]
     }
 
     /// Compiles the pass.
-    pub fn new(device: &wgpu::Device) -> Self {
-        let (layout, pipeline) = compute_pipeline(
-            device,
-            "volfog temporal",
-            prebuilt_wgsl("temporal@default", "temporal"),
-            "temporal",
-            &Self::layout_entries(),
-        );
-        Self {
+    pub fn new(device: &wgpu::Device) -> Result<Self, CodegenError> {
+        let module = shader_module(device, "temporal", &[])?;
+        let layout = bind_group_layout(device, "volfog temporal", &Self::layout_entries());
+        let pipeline = compute_pipeline(device, "volfog temporal", &module, "temporal", &layout);
+        Ok(Self {
             layout,
             pipeline,
             sampler: super::apply::fog_sampler(device),
-        }
+        })
     }
 
     /// A bind group.
-    pub fn bind_group(
-        &self,
-        device: &wgpu::Device,
-        froxels: &wgpu::Buffer,
-        frame: &wgpu::Buffer,
-        current: &wgpu::TextureView,
-        history: &wgpu::TextureView,
-        stabilised: &wgpu::TextureView,
-    ) -> wgpu::BindGroup {
+    pub fn bind_group(&self, device: &wgpu::Device, r: &TemporalResources<'_>) -> wgpu::BindGroup {
         bind_group(
             device,
             "volfog temporal",
             &self.layout,
             &[
-                (0, froxels.as_entire_binding()),
-                (1, frame.as_entire_binding()),
-                (2, wgpu::BindingResource::TextureView(current)),
-                (3, wgpu::BindingResource::TextureView(history)),
+                (0, r.froxels.as_entire_binding()),
+                (1, r.frame.as_entire_binding()),
+                (2, wgpu::BindingResource::TextureView(r.current)),
+                (3, wgpu::BindingResource::TextureView(r.history)),
                 (4, wgpu::BindingResource::Sampler(&self.sampler)),
-                (5, wgpu::BindingResource::TextureView(stabilised)),
+                (5, wgpu::BindingResource::TextureView(r.stabilised)),
+                (6, r.history_state.as_entire_binding()),
+                (7, r.stabilised_state.as_entire_binding()),
             ],
         )
     }
@@ -84,9 +100,9 @@ impl TemporalPass {
         pass.set_pipeline(&self.pipeline);
         pass.set_bind_group(0, group, &[]);
         pass.dispatch_workgroups(
-            size[0].div_ceil(4),
-            size[1].div_ceil(4),
-            size[2].div_ceil(4),
+            size[0].div_ceil(WORKGROUP),
+            size[1].div_ceil(WORKGROUP),
+            size[2].div_ceil(WORKGROUP),
         );
     }
 }

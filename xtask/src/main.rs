@@ -3,13 +3,15 @@
 //! them with apt-get when running as root, then run the job.
 
 use std::path::{Path, PathBuf};
-use std::process::{exit, Command};
+use std::process::{Command, exit};
 
 const PACKAGES_GPU: &[&str] = &["mesa-vulkan-drivers", "libvulkan1"];
 const PACKAGES_TOOLS: &[&str] = &["spirv-tools", "glslang-tools"];
 
 fn usage() -> ! {
-    eprintln!("usage: cargo xtask demo [--out DIR]   export every shader target, run the GPU self-check, render the demo to DIR/demo");
+    eprintln!(
+        "usage: cargo xtask demo [--out DIR]   export every shader target, run the GPU self-check, render the demo to DIR/demo"
+    );
     eprintln!(
         "       cargo xtask test [ARGS...]      run the whole test suite (ARGS go to cargo test)"
     );

@@ -1,0 +1,428 @@
+//! The demo scene: a checkered ground, a colonnade wall of pillars with an arch,
+//! a glass sphere on a plinth, a low sun, coloured point and spot lights, a local fog
+//! pocket, the medium and the camera path.
+
+use glam::{Mat4, Quat, Vec3};
+use volfog::cpu::ambient::AmbientSh;
+use volfog::limits::InvalidValue;
+use volfog::pipeline::cascade_projection;
+use volfog::uniforms::{
+    DirectionalLight, FogLight, FogMedium, LocalVolume, ShadowCascades, VolumeShape,
+};
+
+/// Surface kinds (the `kind` vertex attribute).
+const PLAIN: f32 = 0.0;
+const CHECKER: f32 = 1.0;
+const EMISSIVE: f32 = 2.0;
+
+/// One vertex: position, normal, colour (albedo or emitted radiance) and kind.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct Vertex {
+    pub position: [f32; 3],
+    pub normal: [f32; 3],
+    pub color: [f32; 3],
+    pub kind: f32,
+}
+
+impl Vertex {
+    pub const ATTRIBUTES: [wgpu::VertexAttribute; 4] = wgpu::vertex_attr_array![
+        0 => Float32x3, 1 => Float32x3, 2 => Float32x3, 3 => Float32
+    ];
+
+    pub fn layout() -> wgpu::VertexBufferLayout<'static> {
+        wgpu::VertexBufferLayout {
+            array_stride: std::mem::size_of::<Vertex>() as u64,
+            step_mode: wgpu::VertexStepMode::Vertex,
+            attributes: &Self::ATTRIBUTES,
+        }
+    }
+}
+
+/// A triangle list.
+#[derive(Debug, Default, Clone)]
+pub struct Mesh {
+    pub vertices: Vec<Vertex>,
+    pub indices: Vec<u32>,
+}
+
+impl Mesh {
+    fn push(&mut self, position: Vec3, normal: Vec3, color: Vec3, kind: f32) -> u32 {
+        self.vertices.push(Vertex {
+            position: position.to_array(),
+            normal: normal.to_array(),
+            color: color.to_array(),
+            kind,
+        });
+        self.vertices.len() as u32 - 1
+    }
+
+    /// A box of half extents `half`, rotated by `rotation` about its centre.
+    fn cuboid(&mut self, center: Vec3, half: Vec3, rotation: Quat, color: Vec3, kind: f32) {
+        for axis in 0..3 {
+            for sign in [-1.0f32, 1.0] {
+                let mut n = Vec3::ZERO;
+                n[axis] = sign;
+                let a = (axis + 1) % 3;
+                let b = (axis + 2) % 3;
+                let mut du = Vec3::ZERO;
+                du[a] = half[a];
+                let mut dv = Vec3::ZERO;
+                dv[b] = half[b];
+                let c = n * half[axis];
+                // Counter-clockwise seen from outside: (du x dv) must point along n.
+                let (du, dv) = if du.cross(dv).dot(n) > 0.0 {
+                    (du, dv)
+                } else {
+                    (dv, du)
+                };
+                let corners = [c - du - dv, c + du - dv, c + du + dv, c - du + dv];
+                let normal = rotation * n;
+                let base = self.vertices.len() as u32;
+                for p in corners {
+                    self.push(center + rotation * p, normal, color, kind);
+                }
+                self.indices.extend_from_slice(&[
+                    base,
+                    base + 1,
+                    base + 2,
+                    base,
+                    base + 2,
+                    base + 3,
+                ]);
+            }
+        }
+    }
+
+    /// An axis-aligned box from `min` to `max`.
+    fn aabb(&mut self, min: Vec3, max: Vec3, color: Vec3) {
+        self.cuboid(
+            (min + max) * 0.5,
+            (max - min) * 0.5,
+            Quat::IDENTITY,
+            color,
+            PLAIN,
+        );
+    }
+
+    /// A UV sphere.
+    fn sphere(&mut self, center: Vec3, radius: f32, color: Vec3, rings: u32, segments: u32) {
+        let base = self.vertices.len() as u32;
+        for r in 0..=rings {
+            let theta = std::f32::consts::PI * r as f32 / rings as f32;
+            for s in 0..=segments {
+                let phi = std::f32::consts::TAU * s as f32 / segments as f32;
+                let n = Vec3::new(
+                    theta.sin() * phi.cos(),
+                    theta.cos(),
+                    theta.sin() * phi.sin(),
+                );
+                self.push(center + n * radius, n, color, PLAIN);
+            }
+        }
+        let row = segments + 1;
+        for r in 0..rings {
+            for s in 0..segments {
+                let a = base + r * row + s;
+                let b = a + row;
+                self.indices
+                    .extend_from_slice(&[a, a + 1, b, a + 1, b + 1, b]);
+            }
+        }
+    }
+}
+
+/// Everything that describes the scene, for the renderer and the fog.
+#[derive(Debug, Clone)]
+pub struct Scene {
+    /// Opaque geometry (casts shadows).
+    pub opaque: Mesh,
+    /// Light markers (emissive, no shadows).
+    pub emissive: Mesh,
+    /// The semi-transparent object.
+    pub glass: Mesh,
+    pub sun: DirectionalLight,
+    pub lights: Vec<FogLight>,
+    pub local_volumes: Vec<LocalVolume>,
+    pub medium: FogMedium,
+    pub ambient_sky: glam::Vec3,
+    pub ambient_ground: glam::Vec3,
+    pub sky_zenith: glam::Vec3,
+}
+
+impl Scene {
+    pub fn ambient(&self) -> AmbientSh {
+        AmbientSh::sky_ground(self.ambient_sky, self.ambient_ground, Vec3::Y)
+    }
+}
+
+/// The direction towards the sun: 7 degrees above the horizon, 3 degrees to the
+/// right of -Z: low behind the arch as seen from the camera.
+pub fn sun_direction() -> Vec3 {
+    let elevation = 7f32.to_radians();
+    let azimuth = 3f32.to_radians();
+    Vec3::new(
+        azimuth.sin() * elevation.cos(),
+        elevation.sin(),
+        -azimuth.cos() * elevation.cos(),
+    )
+    .normalize()
+}
+
+/// Builds the scene.
+pub fn build() -> Result<Scene, InvalidValue> {
+    let stone = Vec3::new(0.62, 0.58, 0.52);
+    let dark_stone = Vec3::new(0.45, 0.42, 0.38);
+    let mut opaque = Mesh::default();
+
+    // The ground: a 600 m square with a 1 m checkerboard.
+    let g = 300.0;
+    let base = opaque.vertices.len() as u32;
+    for (x, z) in [(-g, g), (g, g), (g, -g), (-g, -g)] {
+        opaque.push(
+            Vec3::new(x, 0.0, z),
+            Vec3::Y,
+            Vec3::new(0.55, 0.52, 0.46),
+            CHECKER,
+        );
+    }
+    opaque
+        .indices
+        .extend_from_slice(&[base, base + 1, base + 2, base, base + 2, base + 3]);
+
+    // The colonnade: one row of pillars across the view at z = -25 under a lintel,
+    // with an arch in the middle; the low sun stands behind it.
+    let row_z = -25.0;
+    let height = 7.0;
+    let (inner, outer) = (2.4f32, 3.4f32);
+    for k in -7i32..=7 {
+        let x = 3.6 * k as f32;
+        if x.abs() < outer + 0.5 {
+            continue;
+        }
+        opaque.aabb(
+            Vec3::new(x - 1.2, 0.0, row_z - 0.8),
+            Vec3::new(x + 1.2, 0.4, row_z + 0.8),
+            dark_stone,
+        );
+        opaque.aabb(
+            Vec3::new(x - 1.0, 0.4, row_z - 0.55),
+            Vec3::new(x + 1.0, height - 0.3, row_z + 0.55),
+            stone,
+        );
+        opaque.aabb(
+            Vec3::new(x - 1.15, height - 0.3, row_z - 0.75),
+            Vec3::new(x + 1.15, height, row_z + 0.75),
+            dark_stone,
+        );
+    }
+    opaque.aabb(
+        Vec3::new(-25.0, height, row_z - 0.8),
+        Vec3::new(25.0, height + 0.8, row_z + 0.8),
+        stone,
+    );
+    // The attic wall above the lintel: the sun reaches the near side only through
+    // the arch and between the pillars.
+    opaque.aabb(
+        Vec3::new(-25.0, height + 0.8, row_z - 0.5),
+        Vec3::new(25.0, height + 4.0, row_z + 0.5),
+        dark_stone,
+    );
+
+    // The arch: two piers and a semicircle of voussoirs under the lintel.
+    let spring = 3.2;
+    for side in [-1.0f32, 1.0] {
+        let x = side * (inner + outer) * 0.5;
+        opaque.aabb(
+            Vec3::new(x - 0.5, 0.0, row_z - 0.6),
+            Vec3::new(x + 0.5, spring, row_z + 0.6),
+            stone,
+        );
+    }
+    let pieces = 11;
+    for k in 0..pieces {
+        let a = std::f32::consts::PI * (k as f32 + 0.5) / pieces as f32;
+        let r = (inner + outer) * 0.5;
+        let center = Vec3::new(r * a.cos(), spring + r * a.sin(), row_z);
+        let half = Vec3::new(
+            (outer - inner) * 0.5,
+            outer * std::f32::consts::PI / pieces as f32 * 0.5 + 0.02,
+            0.6,
+        );
+        opaque.cuboid(center, half, Quat::from_rotation_z(a), stone, PLAIN);
+    }
+
+    // The plinth of the glass sphere.
+    let glass_center = Vec3::new(3.4, 1.9, -18.5);
+    opaque.aabb(
+        Vec3::new(glass_center.x - 0.6, 0.0, glass_center.z - 0.6),
+        Vec3::new(glass_center.x + 0.6, 0.8, glass_center.z + 0.6),
+        dark_stone,
+    );
+    let mut glass = Mesh::default();
+    glass.sphere(glass_center, 1.0, Vec3::new(0.35, 0.6, 0.9), 24, 48);
+
+    // Coloured lights: two lanterns on the pillars, two spots, one small red light by
+    // the sphere.
+    let front = row_z + 0.75;
+    let lights = vec![
+        FogLight::point(
+            Vec3::new(-10.8, 2.6, front - 0.25),
+            Vec3::new(60.0, 26.0, 8.0),
+            14.0,
+        ),
+        FogLight::point(
+            Vec3::new(10.8, 2.4, front - 0.25),
+            Vec3::new(10.0, 40.0, 70.0),
+            14.0,
+        ),
+        FogLight::spot(
+            Vec3::new(-7.2, 6.6, front),
+            Vec3::new(0.0, -1.0, 0.25),
+            Vec3::new(110.0, 18.0, 95.0),
+            14.0,
+            0.3,
+            0.5,
+        ),
+        FogLight::spot(
+            Vec3::new(-14.4, 6.6, front),
+            Vec3::new(0.3, -1.0, 0.5),
+            Vec3::new(25.0, 90.0, 18.0),
+            16.0,
+            0.25,
+            0.45,
+        ),
+        FogLight::point(
+            glass_center + Vec3::new(1.3, -1.2, 0.8),
+            Vec3::new(35.0, 6.0, 3.0),
+            6.0,
+        ),
+    ];
+    for light in &lights {
+        light.validate()?;
+    }
+    let mut emissive = Mesh::default();
+    for light in &lights {
+        let color = light.color / light.color.max_element() * 6.0;
+        emissive.cuboid(
+            light.position,
+            Vec3::splat(0.12),
+            Quat::IDENTITY,
+            color,
+            EMISSIVE,
+        );
+    }
+
+    // A pocket of denser fog under the magenta spot.
+    let local_volumes = vec![LocalVolume::new(
+        Mat4::from_scale_rotation_translation(
+            Vec3::new(2.2, 2.6, 2.2),
+            Quat::IDENTITY,
+            Vec3::new(-7.2, 2.0, row_z + 3.0),
+        ),
+        VolumeShape::Ellipsoid,
+        0.12,
+        0.6,
+    )?];
+
+    let medium = FogMedium {
+        albedo: Vec3::splat(0.9),
+        density: 0.035,
+        height_falloff: 0.2,
+        base_height: 0.0,
+        noise_strength: 0.85,
+        noise_scale: 0.15,
+        wind: Vec3::new(1.5, 0.2, -0.6),
+        phase_g: 0.7,
+        ..FogMedium::default()
+    };
+    medium.validate()?;
+    // Surfaces see the full sun; the fog a fraction of it (fog_intensity), so sunlit
+    // fog does not drown the scene.
+    let sun = DirectionalLight {
+        direction: sun_direction(),
+        color: Vec3::new(7.5, 5.6, 3.6),
+        fog_intensity: 0.6,
+        ..DirectionalLight::default()
+    };
+    sun.validate()?;
+    Ok(Scene {
+        opaque,
+        emissive,
+        glass,
+        sun,
+        lights,
+        local_volumes,
+        medium,
+        ambient_sky: Vec3::new(0.04, 0.06, 0.1),
+        ambient_ground: Vec3::new(0.025, 0.022, 0.02),
+        sky_zenith: Vec3::new(0.06, 0.11, 0.25),
+    })
+}
+
+/// Camera pose at `t` in [0, 1] along the path (the final frame is t = 1): a slow
+/// sideways dolly towards the colonnade, in the shadows of its pillars.
+pub fn camera(t: f32) -> (Vec3, Mat4) {
+    let eye = Vec3::new(-2.0 + 2.5 * t, 1.8 - 0.1 * t, -8.0 - 3.0 * t);
+    let target = Vec3::new(0.5, 2.8, -25.0);
+    (
+        eye,
+        glam::camera::rh::view::look_at_mat4(eye, target, Vec3::Y),
+    )
+}
+
+/// Fits shadow cascades to the camera frustum: one bounding sphere per split
+/// interval, snapped to the shadow-map texel grid so the maps do not shimmer as the
+/// camera moves. Returns the cascades and the world size of a texel per cascade.
+#[allow(clippy::too_many_arguments)]
+pub fn fit_cascades(
+    world_from_view: Mat4,
+    fov_y: f32,
+    aspect: f32,
+    near: f32,
+    splits: glam::Vec4,
+    count: u32,
+    sun: Vec3,
+    map_size: u32,
+    exponent: f32,
+) -> (ShadowCascades, [f32; 4]) {
+    let tan_y = (fov_y * 0.5).tan();
+    let lateral = |depth: f32| depth * tan_y * (1.0 + aspect * aspect).sqrt();
+    // Occluders up to this height (m) must fall inside each cascade's depth range.
+    let caster_height = 12.0;
+    let reach = caster_height / sun.y.max(0.05);
+    let light_rotation = glam::camera::rh::view::look_at_mat4(sun, Vec3::ZERO, Vec3::Y);
+    let mut cascades = ShadowCascades {
+        splits,
+        count,
+        exponent,
+        ..ShadowCascades::default()
+    };
+    let mut texels = [0.0; 4];
+    let mut front = near;
+    for i in 0..count as usize {
+        let back = splits[i];
+        let (a0, a1) = (lateral(front), lateral(back));
+        // Centre on the view axis equidistant from the front and back corner rings.
+        let z = ((back * back - front * front + a1 * a1 - a0 * a0) / (2.0 * (back - front)))
+            .clamp(front, back);
+        let radius = ((z - front).powi(2) + a0 * a0)
+            .max((back - z).powi(2) + a1 * a1)
+            .sqrt();
+        // A fixed radius per cascade (rounded up) keeps the texel size constant.
+        let radius = (radius * 2.0).ceil() * 0.5;
+        let center = world_from_view.transform_point3(Vec3::new(0.0, 0.0, -z));
+        let texel = 2.0 * radius / map_size as f32;
+        let mut ls = light_rotation.transform_point3(center);
+        ls.x = (ls.x / texel).round() * texel;
+        ls.y = (ls.y / texel).round() * texel;
+        let center = light_rotation.inverse().transform_point3(ls);
+        // Shift the depth range towards the sun so casters outside the sphere count.
+        let range = 2.0 * radius + reach;
+        cascades.light_from_world[i] =
+            cascade_projection(sun, center + sun * (reach * 0.5), radius, range);
+        texels[i] = texel;
+        front = back;
+    }
+    (cascades, texels)
+}

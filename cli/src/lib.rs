@@ -1,0 +1,7 @@
+//! The `volfog` command line: shader export (through `volfog_codegen`), the GPU
+//! self-check, the demo scene and the benchmark. The binary is `src/main.rs`; the
+//! demo and bench are a library so their tests can drive them.
+#![warn(missing_docs)]
+
+pub mod bench;
+pub mod demo;

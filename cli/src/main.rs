@@ -1,0 +1,146 @@
+//! The `volfog` command line: export shaders, run the GPU self-check, render the demo,
+//! run the benchmark.
+
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use clap::{Parser, Subcommand, ValueEnum};
+use volfog_cli::{bench, demo};
+use volfog_codegen::Target;
+use volfog_codegen::export::{ExportError, ExportRequest, export};
+
+#[derive(Parser)]
+#[command(
+    name = "volfog",
+    version,
+    about = "Volumetric fog shaders: export, self-check, demo, benchmark"
+)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
+enum TargetArg {
+    Wgsl,
+    Spirv,
+    Glsl,
+    Hlsl,
+    Msl,
+    All,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Write shaders for the chosen targets and DIR/manifest.json.
+    Export {
+        /// Target language(s); repeat or separate with commas.
+        #[arg(long, short, value_enum, value_delimiter = ',', required = true)]
+        target: Vec<TargetArg>,
+        /// Destination folder.
+        #[arg(long, short)]
+        out: PathBuf,
+        /// Compose with custom defines, `NAME` or `NAME=VALUE` (repeatable).
+        #[arg(long, short = 'D')]
+        define: Vec<String>,
+        /// Export only these variants or passes (repeatable).
+        #[arg(long)]
+        variant: Vec<String>,
+    },
+    /// Render the demo scene headless with the fog pipeline: PNG + per-pass GPU times.
+    Demo(demo::DemoArgs),
+    /// Time every pass with GPU timestamps against its floor and a per-pixel raymarch.
+    Bench(bench::BenchArgs),
+    /// Run every pass on the GPU against closed forms and the CPU mirror.
+    Selfcheck,
+    /// List the variants of every pass and their defines.
+    List,
+}
+
+fn targets(args: &[TargetArg]) -> Vec<Target> {
+    if args.contains(&TargetArg::All) {
+        return Target::ALL.to_vec();
+    }
+    args.iter()
+        .map(|t| match t {
+            TargetArg::Wgsl => Target::Wgsl,
+            TargetArg::Spirv => Target::Spirv,
+            TargetArg::Glsl => Target::Glsl,
+            TargetArg::Hlsl => Target::Hlsl,
+            TargetArg::Msl => Target::Msl,
+            TargetArg::All => unreachable!("handled above"),
+        })
+        .collect()
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    match cli.command {
+        Command::Export {
+            target,
+            out,
+            define,
+            variant,
+        } => {
+            let request = ExportRequest {
+                out: out.clone(),
+                targets: targets(&target),
+                variants: variant,
+                defines: define,
+            };
+            match export(&request) {
+                Ok(s) => {
+                    println!(
+                        "exported {} variants, {} entry points, {} files to {} (+ manifest.json)",
+                        s.variants,
+                        s.entry_points,
+                        s.files,
+                        out.display()
+                    );
+                    ExitCode::SUCCESS
+                }
+                Err(e @ ExportError::Io { .. }) => {
+                    eprintln!("error: {e}");
+                    ExitCode::FAILURE
+                }
+                Err(e) => {
+                    eprintln!("error: {e}");
+                    ExitCode::from(2)
+                }
+            }
+        }
+        Command::Demo(args) => match demo::run(&args) {
+            Ok(()) => ExitCode::SUCCESS,
+            Err(e) => {
+                eprintln!("error: {e}");
+                ExitCode::FAILURE
+            }
+        },
+        Command::Bench(args) => bench::main(args),
+        Command::Selfcheck => {
+            let gpu = match volfog_testkit::Gpu::new() {
+                Ok(g) => g,
+                Err(e) => {
+                    eprintln!("error: {e}");
+                    return ExitCode::FAILURE;
+                }
+            };
+            match volfog_testkit::selfcheck::run(&gpu) {
+                Ok(report) => {
+                    print!("{report}");
+                    ExitCode::SUCCESS
+                }
+                Err(e) => {
+                    eprintln!("error: {e}");
+                    ExitCode::FAILURE
+                }
+            }
+        }
+        Command::List => {
+            for v in volfog_codegen::manifest::variants() {
+                println!("{:40} {}", v.name, v.defines.join(" "));
+            }
+            ExitCode::SUCCESS
+        }
+    }
+}

@@ -1,0 +1,293 @@
+//! The shader manifest: every importable module in dependency order, and every
+//! pass with the define axes it is built under.
+//!
+//! `build.rs` of the library composes and validates every variant listed here, the
+//! wgpu runtime composes the ones it needs, and the exports and tests walk the same
+//! list, so they can never disagree about what exists.
+
+/// One importable WGSL module, `#define_import_path volfog::<stem>`.
+#[derive(Debug, Clone, Copy)]
+pub struct ModuleSource {
+    /// The import path, `volfog::<file stem>`.
+    pub import_path: &'static str,
+    /// Path of the file relative to the crate root (for error messages).
+    pub file: &'static str,
+    /// The WGSL text.
+    pub source: &'static str,
+}
+
+/// One axis along which a pass is specialised.
+#[derive(Debug, Clone, Copy)]
+pub enum Axis {
+    /// A boolean define: the variant either has it or not.
+    Flag(&'static str),
+    /// Mutually exclusive defines: the variant has none or exactly one of them.
+    OneOf(&'static [&'static str]),
+}
+
+impl Axis {
+    /// Every define this axis can set.
+    pub fn defines(&self) -> &[&'static str] {
+        match self {
+            Axis::Flag(name) => core::slice::from_ref(name),
+            Axis::OneOf(names) => names,
+        }
+    }
+}
+
+/// A define that carries an unsigned value (`NAME=VALUE`), accepted by
+/// custom compositions with the given inclusive range.
+#[derive(Debug, Clone, Copy)]
+pub struct ValueDefine {
+    /// Define name, e.g. `VOLFOG_NOISE_OCTAVES`.
+    pub name: &'static str,
+    /// Smallest accepted value.
+    pub min: u32,
+    /// Largest accepted value.
+    pub max: u32,
+    /// Value used when the define is absent.
+    pub default: u32,
+}
+
+/// A pass: one WGSL file of entry points plus its bindings.
+#[derive(Debug, Clone, Copy)]
+pub struct PassSource {
+    /// Pass name, also the file stem under `shaders/passes/`.
+    pub name: &'static str,
+    /// Path of the file relative to the crate root.
+    pub file: &'static str,
+    /// The WGSL text.
+    pub source: &'static str,
+    /// Boolean / exclusive define axes; the prebuilt variants are their product.
+    pub axes: &'static [Axis],
+    /// Valued defines accepted by custom compositions (not expanded at build time).
+    pub values: &'static [ValueDefine],
+    /// How to run the pass (dispatch or draw, pipeline state), for the binding manifest.
+    pub usage: &'static str,
+}
+
+macro_rules! module {
+    ($stem:literal) => {
+        ModuleSource {
+            import_path: concat!("volfog::", $stem),
+            file: concat!("shaders/volfog/", $stem, ".wgsl"),
+            source: include_str!(concat!("../../shaders/volfog/", $stem, ".wgsl")),
+        }
+    };
+}
+
+macro_rules! pass {
+    ($stem:literal, axes: $axes:expr, values: $values:expr, usage: $usage:expr) => {
+        PassSource {
+            name: $stem,
+            file: concat!("shaders/passes/", $stem, ".wgsl"),
+            source: include_str!(concat!("../../shaders/passes/", $stem, ".wgsl")),
+            axes: $axes,
+            values: $values,
+            usage: $usage,
+        }
+    };
+}
+
+/// Radius of the ESM box blur in texels (taps = 2 radius + 1).
+pub const ESM_BLUR_RADIUS: ValueDefine = ValueDefine {
+    name: "VOLFOG_ESM_BLUR_RADIUS",
+    min: 1,
+    max: 16,
+    default: 5,
+};
+
+/// Octaves of the fbm noise that modulates the froxel density.
+pub const INJECT_NOISE_OCTAVES: ValueDefine = ValueDefine {
+    name: "VOLFOG_INJECT_NOISE_OCTAVES",
+    min: 1,
+    max: 8,
+    default: 1,
+};
+
+/// Importable modules, each after the modules it imports.
+pub const MODULES: &[ModuleSource] = &[
+    module!("types"),
+    module!("fullscreen"),
+    module!("froxel"),
+    module!("noise"),
+    module!("phase"),
+    module!("height_fog"),
+    module!("scan"),
+    module!("apply"),
+    module!("hull"),
+    module!("bindings"),
+    module!("density"),
+    module!("lights"),
+    module!("esm"),
+    module!("fog_volume"),
+    module!("lightning"),
+    module!("soft_particles"),
+];
+
+/// Passes (entry-point files) and their define axes.
+pub const PASSES: &[PassSource] = &[
+    pass!(
+        "scan",
+        axes: &[Axis::Flag("VOLFOG_SCAN_WRONSKI_STEP")],
+        values: &[],
+        usage: "Dispatch ceil(size.x / 8) x ceil(size.y / 8) x 1 workgroups after the \
+                scattering volume is written; the integrated volume is then read by apply."
+    ),
+    pass!(
+        "fullscreen",
+        axes: &[],
+        values: &[],
+        usage: "The vertex shader of the fullscreen passes (apply, hull_composite): draw 3 \
+                vertices without vertex buffers; it writes only the position."
+    ),
+    pass!(
+        "apply",
+        axes: &[Axis::Flag("VOLFOG_BINDINGS_NO_SAMPLER")],
+        values: &[],
+        usage: "Draw 3 vertices with fullscreen_vs (pass fullscreen), no vertex buffers, onto \
+                the lit colour target (load, no depth attachment). Blend colour: src * One + \
+                dst * SrcAlpha (add); alpha: src * Zero + dst * One (add). Group 0 is the fog \
+                group; its sampler (binding 2, absent in BINDINGS_NO_SAMPLER) is linear with \
+                clamp-to-edge addressing. Group 1 binding 0 is the scene depth buffer, bound \
+                as unfilterable float."
+    ),
+    pass!(
+        "esm_downsample",
+        axes: &[Axis::Flag("VOLFOG_ESM_LOG_SPACE")],
+        values: &[],
+        usage: "Dispatch ceil(esm_width / 8) x ceil(esm_height / 8) x cascades workgroups; \
+                the shadow map is 4x the ESM size, one array layer per cascade. The sampler \
+                (binding 2) is non-filtering with clamp-to-edge addressing."
+    ),
+    pass!(
+        "esm_blur",
+        axes: &[Axis::Flag("VOLFOG_ESM_LOG_SPACE")],
+        values: &[ESM_BLUR_RADIUS],
+        usage: "Run esm_blur_x from the ESM into a temporary array, then esm_blur_y back. \
+                esm_blur_x: dispatch ceil(width / 64) x height x cascades; esm_blur_y: \
+                ceil(height / 64) x width x cascades."
+    ),
+    pass!(
+        "inject",
+        axes: &[
+            Axis::Flag("VOLFOG_ESM_LOG_SPACE"),
+            Axis::Flag("VOLFOG_INJECT_JITTER"),
+            Axis::Flag("VOLFOG_INJECT_TWO_COLOR_PHASE"),
+            Axis::Flag("VOLFOG_INJECT_DENSITY_TEXTURE"),
+        ],
+        values: &[INJECT_NOISE_OCTAVES],
+        usage: "Dispatch ceil(size.x / 4) x ceil(size.y / 4) x ceil(size.z / 4) workgroups \
+                after the ESM passes. The light buffer holds light_count FogLight elements \
+                (64-byte stride), the local volume buffer local_volume_count LocalVolume \
+                elements (80-byte stride); bind at least one element each. The density \
+                sampler (binding 10) is linear with repeat addressing."
+    ),
+    pass!(
+        "temporal",
+        axes: &[],
+        values: &[],
+        usage: "Dispatch ceil(size.x / 4) x ceil(size.y / 4) x ceil(size.z / 4) workgroups \
+                after inject. Ping-pong two volumes and their HistoryState buffers (80 bytes, \
+                zero-initialised) by frame parity: frame n reads volume and state (n + 1) % 2 \
+                at bindings 3 and 6 and writes volume and state n % 2 at bindings 5 and 7. \
+                The sampler (binding 4) is linear with clamp-to-edge addressing."
+    ),
+    pass!(
+        "hull_thickness",
+        axes: &[],
+        values: &[],
+        usage: "Draw each hull's triangle list (every face) into a float target cleared to 0, \
+                the size of the scene depth buffer. Vertex buffer 0: stride 12, location 0 \
+                = world position (Float32x3, offset 0; HLSL semantic LOC0; MSL [[attribute(0)]] \
+                from a vertex-descriptor buffer index other than 0, which holds the uniform); \
+                faces wound counter-clockwise seen from outside. Primitive: TriangleList, front face Ccw, cull mode none; no \
+                depth-stencil attachment (depth test off). Target format Rgba16Float (with \
+                FogHull.reference and quantum set from the hull's bounds) or Rgba32Float \
+                where FLOAT32_BLENDABLE is available (quantum 0). Blend colour and alpha: \
+                src * One + dst * One (add). Binding 1 is the scene depth buffer, bound as \
+                unfilterable float."
+    ),
+    pass!(
+        "hull_composite",
+        axes: &[],
+        values: &[],
+        usage: "After hull_thickness, draw 3 vertices with fullscreen_vs (pass fullscreen), \
+                no vertex buffers, onto the lit colour target (load, no depth attachment). Blend colour: src * One + dst * \
+                SrcAlpha (add); alpha: src * Zero + dst * One (add). Binding 1 is the \
+                hull_thickness target, bound as unfilterable float."
+    ),
+];
+
+/// Looks a pass up by name.
+pub fn pass(name: &str) -> Option<&'static PassSource> {
+    PASSES.iter().find(|p| p.name == name)
+}
+
+/// The variant name for a pass and a set of boolean defines:
+/// `pass@default` without defines, otherwise `pass@A+B` with the `VOLFOG_`
+/// prefix dropped and the defines sorted.
+pub fn variant_name(pass: &str, defines: &[&str]) -> String {
+    if defines.is_empty() {
+        return format!("{pass}@default");
+    }
+    let mut short: Vec<&str> = defines
+        .iter()
+        .map(|d| d.strip_prefix("VOLFOG_").unwrap_or(d))
+        .collect();
+    short.sort_unstable();
+    format!("{pass}@{}", short.join("+"))
+}
+
+/// Every combination of a pass's axes, each as a sorted list of defines.
+pub fn expand_axes(axes: &[Axis]) -> Vec<Vec<&'static str>> {
+    let mut combos: Vec<Vec<&'static str>> = vec![Vec::new()];
+    for axis in axes {
+        let mut next = Vec::new();
+        for combo in &combos {
+            next.push(combo.clone());
+            for define in axis.defines() {
+                let mut with = combo.clone();
+                with.push(define);
+                next.push(with);
+            }
+        }
+        combos = next;
+    }
+    for combo in &mut combos {
+        combo.sort_unstable();
+    }
+    combos
+}
+
+/// One variant of the manifest: a pass under one combination of its axes' defines.
+#[derive(Debug, Clone)]
+pub struct Variant {
+    /// `pass@default` or `pass@A+B` (see [`variant_name`]).
+    pub name: String,
+    /// The pass.
+    pub pass: &'static PassSource,
+    /// Its boolean defines, sorted.
+    pub defines: Vec<&'static str>,
+}
+
+/// Every variant of every pass: the product of each pass's axes, in manifest order.
+pub fn variants() -> Vec<Variant> {
+    PASSES
+        .iter()
+        .flat_map(|pass| {
+            expand_axes(pass.axes)
+                .into_iter()
+                .map(move |defines| Variant {
+                    name: variant_name(pass.name, &defines),
+                    pass,
+                    defines,
+                })
+        })
+        .collect()
+}
+
+/// A variant of the manifest by name.
+pub fn variant(name: &str) -> Option<Variant> {
+    variants().into_iter().find(|v| v.name == name)
+}

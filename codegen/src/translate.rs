@@ -1,0 +1,483 @@
+//! Compaction and translation of a composed module into every target.
+
+use std::collections::BTreeMap;
+
+use naga::back::{glsl, hlsl, msl, spv, wgsl};
+use naga::valid::ModuleInfo;
+
+use crate::compose::{Defines, validate, with_shared_composer};
+use crate::manifest::{PASSES, PassSource, Variant};
+use crate::reflect::{EntryReflection, Resource, reflect_entry};
+use crate::{CodegenError, Stage, Target, names};
+
+/// The module restricted to one entry point and compacted, so that each exported
+/// file holds exactly what that entry point uses.
+fn single_entry(module: &naga::Module, index: usize) -> naga::Module {
+    let mut m = module.clone();
+    let ep = m.entry_points.swap_remove(index);
+    m.entry_points = vec![ep];
+    naga::compact::compact(&mut m, naga::compact::KeepUnused::No);
+    m
+}
+
+/// Translates every entry point of a composed module.
+pub fn translate(
+    variant: &str,
+    mut module: naga::Module,
+) -> Result<Vec<EntryOutput>, CodegenError> {
+    names::make_readable(&mut module, variant)?;
+    let info = validate(&module, variant)?;
+    let (module, _) = naga::back::pipeline_constants::process_overrides(
+        &module,
+        &info,
+        None,
+        &Default::default(),
+    )
+    .map_err(|e| CodegenError::Validation(format!("{variant}: overrides: {e}")))?;
+    let module = module.into_owned();
+
+    let mut out = Vec::new();
+    for index in 0..module.entry_points.len() {
+        let m = single_entry(&module, index);
+        let ep = &m.entry_points[0];
+        let entry = ep.name.clone();
+        let stage = Stage::from_naga(ep.stage).ok_or_else(|| CodegenError::Backend {
+            target: Target::Wgsl,
+            variant: variant.to_string(),
+            entry: entry.clone(),
+            message: format!("unsupported stage {:?}", ep.stage),
+        })?;
+        let info = validate(&m, &format!("{variant} entry point {entry}"))?;
+        let mut reflection = reflect_entry(&m, &info, 0);
+        let backend_err = |target: Target, message: String| CodegenError::Backend {
+            target,
+            variant: variant.to_string(),
+            entry: entry.clone(),
+            message,
+        };
+        let wgsl = wgsl::write_string(&m, &info, wgsl::WriterFlags::empty())
+            .map_err(|e| backend_err(Target::Wgsl, e.to_string()))?;
+        let spirv = write_spirv(&m, &info, &reflection, stage, &entry)
+            .map_err(|e| backend_err(Target::Spirv, e))?;
+        let glsl = write_glsl(&m, &info, &mut reflection, stage, &entry)
+            .map_err(|e| backend_err(Target::Glsl, e))?;
+        let hlsl = write_hlsl(&m, &info, &reflection, stage, &entry)
+            .map_err(|e| backend_err(Target::Hlsl, e))?;
+        let msl = write_msl(&m, &info, &reflection, stage, &entry)
+            .map_err(|e| backend_err(Target::Msl, e))?;
+        out.push(EntryOutput {
+            entry,
+            stage,
+            wgsl,
+            spirv,
+            glsl,
+            hlsl,
+            msl,
+            reflection,
+        });
+    }
+    Ok(out)
+}
+
+/// Output of one entry point of one variant in every target.
+#[derive(Debug, Clone)]
+pub struct EntryOutput {
+    /// Entry point name, as in the WGSL source.
+    pub entry: String,
+    /// Its stage.
+    pub stage: Stage,
+    /// Flattened WGSL.
+    pub wgsl: String,
+    /// SPIR-V words.
+    pub spirv: Vec<u32>,
+    /// GLSL 450.
+    pub glsl: String,
+    /// HLSL (SM 6.0).
+    pub hlsl: String,
+    /// MSL 2.1.
+    pub msl: String,
+    /// Bindings, structs and workgroup size, for the manifest.
+    pub reflection: EntryReflection,
+}
+
+impl EntryOutput {
+    /// The exported file name of this entry point for a target:
+    /// `<variant>.<entry>.<stage>.<ext>`.
+    pub fn file_name(&self, variant: &str, target: Target) -> String {
+        format!(
+            "{variant}.{}.{}.{}",
+            self.entry,
+            self.stage.short(),
+            target.extension()
+        )
+    }
+
+    /// The bytes of the exported file for a target.
+    pub fn bytes(&self, target: Target) -> Vec<u8> {
+        match target {
+            Target::Wgsl => self.wgsl.clone().into_bytes(),
+            Target::Spirv => self.spirv.iter().flat_map(|w| w.to_le_bytes()).collect(),
+            Target::Glsl => self.glsl.clone().into_bytes(),
+            Target::Hlsl => self.hlsl.clone().into_bytes(),
+            Target::Msl => self.msl.clone().into_bytes(),
+        }
+    }
+}
+
+/// Output of one variant: a pass composed under one define set.
+#[derive(Debug, Clone)]
+pub struct VariantOutput {
+    /// Variant name, `pass@default` or `pass@A+B`.
+    pub name: String,
+    /// The pass.
+    pub pass: String,
+    /// Defines, sorted, as `NAME` or `NAME=VALUE`.
+    pub defines: Vec<String>,
+    /// One output per entry point.
+    pub entries: Vec<EntryOutput>,
+}
+
+/// Composes, validates and translates one pass under a define set.
+pub fn generate(
+    composer: &mut naga_oil::compose::Composer,
+    pass: &PassSource,
+    defines: &Defines,
+) -> Result<VariantOutput, CodegenError> {
+    let name = defines.variant_name(pass.name);
+    let module = crate::compose::compose_pass(composer, pass, defines)?;
+    let entries = translate(&name, module)?;
+    Ok(VariantOutput {
+        name,
+        pass: pass.name.to_string(),
+        defines: defines.as_strings(),
+        entries,
+    })
+}
+
+/// Composes and translates a variant of the manifest with the shared composer.
+pub fn generate_variant(variant: &Variant) -> Result<VariantOutput, CodegenError> {
+    let defines = Defines::flags(variant.defines.iter().copied());
+    with_shared_composer(|composer| generate(composer, variant.pass, &defines))
+}
+
+/// Composes a pass under a custom define set (`NAME` or `NAME=VALUE` items) and
+/// translates it to every target. Unknown passes or defines, values out of range and
+/// exclusive defines set together are errors that list what is valid.
+///
+/// ```
+/// let scan = volfog_codegen::translate::compose_variant("scan", &[]).unwrap();
+/// assert_eq!(scan.name, "scan@default");
+/// assert!(scan.entries[0].hlsl.contains("RWTexture3D"));
+/// assert!(volfog_codegen::translate::compose_variant("scan", &["VOLFOG_NOPE".into()]).is_err());
+/// ```
+pub fn compose_variant(pass_name: &str, defines: &[String]) -> Result<VariantOutput, CodegenError> {
+    let pass = crate::manifest::pass(pass_name).ok_or_else(|| {
+        CodegenError::Define(format!(
+            "unknown pass {pass_name}; passes: {}",
+            PASSES.iter().map(|p| p.name).collect::<Vec<_>>().join(", ")
+        ))
+    })?;
+    let defines = Defines::parse(pass, defines)?;
+    with_shared_composer(|composer| generate(composer, pass, &defines))
+}
+
+fn resource_binding(group: u32, binding: u32) -> naga::ResourceBinding {
+    naga::ResourceBinding { group, binding }
+}
+
+fn write_spirv(
+    module: &naga::Module,
+    info: &ModuleInfo,
+    reflection: &EntryReflection,
+    stage: Stage,
+    entry: &str,
+) -> Result<Vec<u32>, String> {
+    let binding_map = reflection
+        .bindings
+        .iter()
+        .map(|b| {
+            (
+                resource_binding(b.group, b.binding),
+                spv::BindingInfo {
+                    descriptor_set: b.spirv.set,
+                    binding: b.spirv.binding,
+                    binding_array_size: None,
+                },
+            )
+        })
+        .collect();
+    let options = spv::Options {
+        lang_version: (1, 3),
+        // Debug names make the disassembly readable; the coordinate-space adjustment
+        // keeps WebGPU's clip space (y up) as wgpu does on Vulkan.
+        flags: spv::WriterFlags::DEBUG
+            | spv::WriterFlags::ADJUST_COORDINATE_SPACE
+            | spv::WriterFlags::LABEL_VARYINGS
+            | spv::WriterFlags::CLAMP_FRAG_DEPTH,
+        fake_missing_bindings: false,
+        binding_map,
+        ..Default::default()
+    };
+    let pipeline = spv::PipelineOptions {
+        shader_stage: stage.to_naga(),
+        entry_point: entry.to_string(),
+    };
+    spv::write_vec(module, info, &options, Some(&pipeline)).map_err(|e| e.to_string())
+}
+
+/// Identifiers that a WGSL binding may legally use but GLSL reserves.
+const GLSL_RESERVED: &[&str] = &[
+    "active",
+    "attribute",
+    "buffer",
+    "centroid",
+    "coherent",
+    "common",
+    "filter",
+    "flat",
+    "image",
+    "in",
+    "inout",
+    "input",
+    "invariant",
+    "layout",
+    "main",
+    "noperspective",
+    "out",
+    "output",
+    "partition",
+    "patch",
+    "precision",
+    "readonly",
+    "resource",
+    "restrict",
+    "sample",
+    "sampler",
+    "shared",
+    "smooth",
+    "struct",
+    "subroutine",
+    "texture",
+    "uniform",
+    "varying",
+    "volatile",
+    "writeonly",
+];
+
+fn is_word_char(c: char) -> bool {
+    c.is_ascii_alphanumeric() || c == '_'
+}
+
+/// Replaces whole-word occurrences of `from` with `to`.
+fn replace_word(text: &str, from: &str, to: &str) -> String {
+    let mut out = String::with_capacity(text.len());
+    let mut rest = text;
+    while let Some(pos) = rest.find(from) {
+        let before = rest[..pos].chars().next_back();
+        let after = rest[pos + from.len()..].chars().next();
+        out.push_str(&rest[..pos]);
+        if before.is_some_and(is_word_char) || after.is_some_and(is_word_char) {
+            out.push_str(from);
+        } else {
+            out.push_str(to);
+        }
+        rest = &rest[pos + from.len()..];
+    }
+    out.push_str(rest);
+    out
+}
+
+fn contains_word(text: &str, word: &str) -> bool {
+    replace_word(text, word, "") != text
+}
+
+/// naga names GLSL resources `_group_G_binding_B_<stage>`; exports use the WGSL
+/// name instead wherever it is a safe, unused GLSL identifier, and record the
+/// identifier in the reflection either way.
+fn readable_glsl_names(mut text: String, reflection: &mut EntryReflection, stage: Stage) -> String {
+    let suffix = match stage {
+        Stage::Compute => "cs",
+        Stage::Vertex => "vs",
+        Stage::Fragment => "fs",
+    };
+    for b in &mut reflection.bindings {
+        let Some(slot) = b.glsl.as_mut() else {
+            continue;
+        };
+        let naga_name = format!("_group_{}_binding_{}_{suffix}", b.group, b.binding);
+        let safe = !b.name.starts_with("gl_")
+            && !b.name.starts_with('_')
+            && !GLSL_RESERVED.contains(&b.name.as_str())
+            && !contains_word(&text, &b.name);
+        if safe && contains_word(&text, &naga_name) {
+            text = replace_word(&text, &naga_name, &b.name);
+            slot.name = b.name.clone();
+        } else {
+            slot.name = naga_name;
+        }
+    }
+    text
+}
+
+fn write_glsl(
+    module: &naga::Module,
+    info: &ModuleInfo,
+    reflection: &mut EntryReflection,
+    stage: Stage,
+    entry: &str,
+) -> Result<String, String> {
+    let mut binding_map = BTreeMap::new();
+    for b in &reflection.bindings {
+        if let Some(slot) = &b.glsl {
+            let index =
+                u8::try_from(slot.binding).map_err(|_| "too many GLSL bindings".to_string())?;
+            binding_map.insert(resource_binding(b.group, b.binding), index);
+        }
+    }
+    let options = glsl::Options {
+        version: glsl::Version::Desktop(450),
+        // Keeps WebGPU's clip space: y is flipped and depth mapped to [-1, 1] for OpenGL.
+        writer_flags: glsl::WriterFlags::ADJUST_COORDINATE_SPACE,
+        binding_map,
+        zero_initialize_workgroup_memory: true,
+    };
+    let pipeline = glsl::PipelineOptions {
+        shader_stage: stage.to_naga(),
+        entry_point: entry.to_string(),
+        multiview: None,
+    };
+    let mut text = String::new();
+    let mut writer = glsl::Writer::new(
+        &mut text,
+        module,
+        info,
+        &options,
+        &pipeline,
+        naga::proc::BoundsCheckPolicies::default(),
+    )
+    .map_err(|e| e.to_string())?;
+    writer.write().map_err(|e| e.to_string())?;
+    Ok(readable_glsl_names(text, reflection, stage))
+}
+
+fn hlsl_target(register: &str, space: u32) -> Result<hlsl::BindTarget, String> {
+    let index = register[1..]
+        .parse::<u32>()
+        .map_err(|_| format!("bad register {register}"))?;
+    Ok(hlsl::BindTarget {
+        space: u8::try_from(space).map_err(|_| "space out of range".to_string())?,
+        register: index,
+        binding_array_size: None,
+        dynamic_storage_buffer_offsets_index: None,
+        restrict_indexing: false,
+    })
+}
+
+fn write_hlsl(
+    module: &naga::Module,
+    info: &ModuleInfo,
+    reflection: &EntryReflection,
+    stage: Stage,
+    entry: &str,
+) -> Result<String, String> {
+    let mut binding_map = BTreeMap::new();
+    for b in &reflection.bindings {
+        let target = if matches!(b.resource, Resource::Sampler { .. }) {
+            // A sampler is read from the heap through the group's sampler index
+            // buffer; naga takes its element of that buffer as the register.
+            hlsl::BindTarget {
+                space: u8::try_from(b.group).map_err(|_| "space out of range".to_string())?,
+                register: b.hlsl.sampler_index.unwrap_or(0),
+                binding_array_size: None,
+                dynamic_storage_buffer_offsets_index: None,
+                restrict_indexing: false,
+            }
+        } else {
+            hlsl_target(&b.hlsl.register, b.hlsl.space)?
+        };
+        binding_map.insert(resource_binding(b.group, b.binding), target);
+    }
+    let mut sampler_buffer_binding_map = BTreeMap::new();
+    for s in &reflection.hlsl_sampler_index_buffers {
+        sampler_buffer_binding_map.insert(
+            hlsl::SamplerIndexBufferKey { group: s.group },
+            hlsl_target(&s.register, s.space)?,
+        );
+    }
+    let options = hlsl::Options {
+        shader_model: hlsl::ShaderModel::V6_0,
+        binding_map,
+        fake_missing_bindings: false,
+        sampler_buffer_binding_map,
+        zero_initialize_workgroup_memory: true,
+        ..Default::default()
+    };
+    let pipeline = hlsl::PipelineOptions {
+        entry_point: Some((stage.to_naga(), entry.to_string())),
+    };
+    let mut text = String::new();
+    let mut writer = hlsl::Writer::new(&mut text, &options, &pipeline);
+    writer
+        .write(module, info, None)
+        .map_err(|e| e.to_string())?;
+    Ok(text)
+}
+
+fn write_msl(
+    module: &naga::Module,
+    info: &ModuleInfo,
+    reflection: &EntryReflection,
+    stage: Stage,
+    entry: &str,
+) -> Result<String, String> {
+    let mut resources = BTreeMap::new();
+    for b in &reflection.bindings {
+        let slot = u8::try_from(b.msl.index).map_err(|_| "MSL index out of range".to_string())?;
+        let mut target = msl::BindTarget::default();
+        match &b.resource {
+            Resource::UniformBuffer { .. } => target.buffer = Some(slot),
+            Resource::StorageBuffer { access, .. } => {
+                target.buffer = Some(slot);
+                target.mutable = access != "read";
+            }
+            Resource::Texture { .. } => target.texture = Some(slot),
+            Resource::StorageTexture { access, .. } => {
+                target.texture = Some(slot);
+                target.mutable = access != "read";
+            }
+            Resource::Sampler { .. } => {
+                target.sampler = Some(msl::BindSamplerTarget::Resource(slot));
+            }
+        }
+        resources.insert(resource_binding(b.group, b.binding), target);
+    }
+    let buffers = reflection
+        .bindings
+        .iter()
+        .filter(|b| b.msl.kind == "buffer")
+        .count();
+    let mut per_entry_point_map = BTreeMap::new();
+    per_entry_point_map.insert(
+        entry.to_string(),
+        msl::EntryPointResources {
+            resources,
+            immediates_buffer: None,
+            // Array lengths of runtime-sized storage buffers, after the other buffers.
+            sizes_buffer: Some(u8::try_from(buffers).map_err(|_| "too many buffers".to_string())?),
+        },
+    );
+    let options = msl::Options {
+        lang_version: (2, 1),
+        per_entry_point_map,
+        fake_missing_bindings: false,
+        zero_initialize_workgroup_memory: true,
+        ..Default::default()
+    };
+    let pipeline = msl::PipelineOptions {
+        entry_point: Some((stage.to_naga(), entry.to_string())),
+        ..Default::default()
+    };
+    msl::write_string(module, info, &options, &pipeline)
+        .map(|(text, _)| text)
+        .map_err(|e| e.to_string())
+}

@@ -1,0 +1,154 @@
+//! The options that choose a shader variant, each with the define it sets. The CPU
+//! mirror evaluates the same options, and the wgpu runtime composes the variant they
+//! select.
+//!
+//! ```
+//! use volfog::options::{InjectOptions, ScanStep};
+//!
+//! assert_eq!(ScanStep::Wronski.defines(), ["VOLFOG_SCAN_WRONSKI_STEP"]);
+//! let inject = InjectOptions { noise_octaves: 3, ..InjectOptions::default() };
+//! assert_eq!(inject.defines(), ["VOLFOG_INJECT_JITTER", "VOLFOG_INJECT_NOISE_OCTAVES=3"]);
+//! ```
+
+use volfog_codegen::manifest;
+
+/// Which integration step the scan uses.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum ScanStep {
+    /// In-scattering of a slice integrated against its own extinction (default).
+    #[default]
+    EnergyConserving,
+    /// Wronski 2014: the slice's in-scattering enters unattenuated
+    /// (`VOLFOG_SCAN_WRONSKI_STEP`).
+    Wronski,
+}
+
+impl ScanStep {
+    /// The defines of the scan variant.
+    pub fn defines(self) -> Vec<String> {
+        match self {
+            ScanStep::EnergyConserving => Vec::new(),
+            ScanStep::Wronski => vec!["VOLFOG_SCAN_WRONSKI_STEP".to_string()],
+        }
+    }
+}
+
+/// How the integrated volume is filtered where fog is applied.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Filtering {
+    /// A linear, clamp-to-edge sampler (binding 2 of the fog group).
+    #[default]
+    Sampler,
+    /// Eight texel loads filtered in the shader; no sampler binding
+    /// (`VOLFOG_BINDINGS_NO_SAMPLER`).
+    Manual,
+}
+
+impl Filtering {
+    /// The defines of the variants that read the fog group.
+    pub fn defines(self) -> Vec<String> {
+        match self {
+            Filtering::Sampler => Vec::new(),
+            Filtering::Manual => vec!["VOLFOG_BINDINGS_NO_SAMPLER".to_string()],
+        }
+    }
+}
+
+/// Options of the inject pass and its CPU mirror.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct InjectOptions {
+    /// Jittered sample positions (`VOLFOG_INJECT_JITTER`).
+    pub jitter: bool,
+    /// AC4 two-colour sun phase (`VOLFOG_INJECT_TWO_COLOR_PHASE`).
+    pub two_color_phase: bool,
+    /// Density multiplied by a 3D texture (`VOLFOG_INJECT_DENSITY_TEXTURE`).
+    pub density_texture: bool,
+    /// Log-space ESM (`VOLFOG_ESM_LOG_SPACE`).
+    pub esm_log_space: bool,
+    /// fbm octaves (`VOLFOG_INJECT_NOISE_OCTAVES`), see
+    /// [`limits::NOISE_OCTAVES`](crate::limits::NOISE_OCTAVES).
+    pub noise_octaves: u32,
+}
+
+impl Default for InjectOptions {
+    fn default() -> Self {
+        Self {
+            jitter: true,
+            two_color_phase: false,
+            density_texture: false,
+            esm_log_space: false,
+            noise_octaves: manifest::INJECT_NOISE_OCTAVES.default,
+        }
+    }
+}
+
+impl InjectOptions {
+    /// The defines of the inject variant, sorted.
+    pub fn defines(&self) -> Vec<String> {
+        let mut d = Vec::new();
+        if self.esm_log_space {
+            d.push("VOLFOG_ESM_LOG_SPACE".to_string());
+        }
+        if self.jitter {
+            d.push("VOLFOG_INJECT_JITTER".to_string());
+        }
+        if self.two_color_phase {
+            d.push("VOLFOG_INJECT_TWO_COLOR_PHASE".to_string());
+        }
+        if self.density_texture {
+            d.push("VOLFOG_INJECT_DENSITY_TEXTURE".to_string());
+        }
+        if self.noise_octaves != manifest::INJECT_NOISE_OCTAVES.default {
+            d.push(format!(
+                "{}={}",
+                manifest::INJECT_NOISE_OCTAVES.name,
+                self.noise_octaves
+            ));
+        }
+        d.sort();
+        d
+    }
+}
+
+/// Options of the ESM passes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct EsmOptions {
+    /// Filter in log space (`VOLFOG_ESM_LOG_SPACE`).
+    pub log_space: bool,
+    /// Box blur radius (`VOLFOG_ESM_BLUR_RADIUS`), see
+    /// [`limits::ESM_BLUR_RADIUS`](crate::limits::ESM_BLUR_RADIUS).
+    pub blur_radius: u32,
+}
+
+impl Default for EsmOptions {
+    fn default() -> Self {
+        Self {
+            log_space: false,
+            blur_radius: manifest::ESM_BLUR_RADIUS.default,
+        }
+    }
+}
+
+impl EsmOptions {
+    /// The defines of the downsample variant.
+    pub fn downsample_defines(&self) -> Vec<String> {
+        if self.log_space {
+            vec!["VOLFOG_ESM_LOG_SPACE".to_string()]
+        } else {
+            Vec::new()
+        }
+    }
+
+    /// The defines of the blur variant.
+    pub fn blur_defines(&self) -> Vec<String> {
+        let mut d = self.downsample_defines();
+        if self.blur_radius != manifest::ESM_BLUR_RADIUS.default {
+            d.push(format!(
+                "{}={}",
+                manifest::ESM_BLUR_RADIUS.name,
+                self.blur_radius
+            ));
+        }
+        d
+    }
+}

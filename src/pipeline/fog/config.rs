@@ -1,0 +1,135 @@
+//! [`FogConfig`]: what a [`VolumetricFog`](super::VolumetricFog) is built for.
+
+use glam::UVec3;
+
+use crate::limits::{self, InvalidValue};
+use crate::options::{EsmOptions, Filtering, InjectOptions, ScanStep};
+use crate::uniforms::ShadowCascades;
+
+/// Configuration of a [`VolumetricFog`](super::VolumetricFog). Every range is in
+/// [`crate::limits`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct FogConfig {
+    /// Froxels across the screen (x, y) and depth slices (z).
+    pub volume_size: UVec3,
+    /// View depth (m) where the volume starts, > 0.
+    pub near: f32,
+    /// View depth (m) where the volume ends, > near.
+    pub far: f32,
+    /// Slice distribution curve (0 linear, ln(far / near) exponential).
+    pub slice_curve: f32,
+    /// ESM size per cascade in texels; the shadow map is 4x as large.
+    pub esm_resolution: u32,
+    /// Shadow cascades.
+    pub cascades: u32,
+    /// ESM exponent for depths in [0, 1]: <= 88 unless `esm_log_space`.
+    pub esm_exponent: f32,
+    /// Filter the ESM in log space (`VOLFOG_ESM_LOG_SPACE`).
+    pub esm_log_space: bool,
+    /// Box blur radius (taps = 2 radius + 1).
+    pub esm_blur_radius: u32,
+    /// Capacity of the point/spot light buffer.
+    pub max_lights: u32,
+    /// Capacity of the local volume buffer.
+    pub max_local_volumes: u32,
+    /// Jitter froxel samples each frame (Halton 2, 3, 5).
+    pub jitter: bool,
+    /// Blend with the reprojected previous frame (allocates two history volumes).
+    pub temporal: bool,
+    /// Weight of the history, [0, 1).
+    pub history_weight: f32,
+    /// Scan step.
+    pub scan_step: ScanStep,
+    /// AC4 two-colour sun phase instead of Henyey-Greenstein.
+    pub two_color_phase: bool,
+    /// Noise fbm octaves.
+    pub noise_octaves: u32,
+    /// Multiply the density by a 3D texture (see
+    /// [`VolumetricFog::set_density_texture`](super::VolumetricFog::set_density_texture)).
+    pub density_texture: bool,
+    /// Filtering of the integrated volume where fog is applied (the fog group's layout).
+    pub apply_filtering: Filtering,
+    /// Record GPU timestamps per pass (needs `Features::TIMESTAMP_QUERY`).
+    pub timestamps: bool,
+}
+
+impl Default for FogConfig {
+    fn default() -> Self {
+        let inject = InjectOptions::default();
+        let esm = EsmOptions::default();
+        Self {
+            volume_size: UVec3::new(160, 90, 128),
+            near: 0.5,
+            far: 128.0,
+            slice_curve: 4.0,
+            esm_resolution: 256,
+            cascades: 4,
+            esm_exponent: 40.0,
+            esm_log_space: esm.log_space,
+            esm_blur_radius: esm.blur_radius,
+            max_lights: limits::MAX_LIGHTS,
+            max_local_volumes: 16,
+            jitter: inject.jitter,
+            temporal: true,
+            history_weight: 0.9,
+            scan_step: ScanStep::EnergyConserving,
+            two_color_phase: inject.two_color_phase,
+            noise_octaves: inject.noise_octaves,
+            density_texture: inject.density_texture,
+            apply_filtering: Filtering::Sampler,
+            timestamps: false,
+        }
+    }
+}
+
+impl FogConfig {
+    /// Checks every field; the error names the field and its valid range.
+    pub fn validate(&self) -> Result<(), InvalidValue> {
+        crate::uniforms::froxels::check_slices(
+            [
+                "FogConfig.volume_size",
+                "FogConfig.near",
+                "FogConfig.far",
+                "FogConfig.slice_curve",
+            ],
+            self.volume_size,
+            self.near,
+            self.far,
+            self.slice_curve,
+        )?;
+        limits::ESM_RESOLUTION.check("FogConfig.esm_resolution", self.esm_resolution)?;
+        limits::CASCADES.check("FogConfig.cascades", self.cascades)?;
+        ShadowCascades::exponent_range(self.esm_log_space)
+            .check("FogConfig.esm_exponent", self.esm_exponent)?;
+        limits::ESM_BLUR_RADIUS.check("FogConfig.esm_blur_radius", self.esm_blur_radius)?;
+        limits::LIGHTS.check("FogConfig.max_lights", self.max_lights)?;
+        limits::LOCAL_VOLUMES.check("FogConfig.max_local_volumes", self.max_local_volumes)?;
+        limits::HISTORY_WEIGHT.check("FogConfig.history_weight", self.history_weight)?;
+        limits::NOISE_OCTAVES.check("FogConfig.noise_octaves", self.noise_octaves)
+    }
+
+    /// The options of the inject variant.
+    pub fn inject_options(&self) -> InjectOptions {
+        InjectOptions {
+            jitter: self.jitter,
+            two_color_phase: self.two_color_phase,
+            density_texture: self.density_texture,
+            esm_log_space: self.esm_log_space,
+            noise_octaves: self.noise_octaves,
+        }
+    }
+
+    /// The options of the ESM variants.
+    pub fn esm_options(&self) -> EsmOptions {
+        EsmOptions {
+            log_space: self.esm_log_space,
+            blur_radius: self.esm_blur_radius,
+        }
+    }
+
+    /// The shadow map [`VolumetricFog::set_shadow_map`](super::VolumetricFog::set_shadow_map)
+    /// expects: texels per side (4x the ESM) and layers (one per cascade).
+    pub fn shadow_map_size(&self) -> (u32, u32) {
+        (self.esm_resolution * 4, self.cascades)
+    }
+}

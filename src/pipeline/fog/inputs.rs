@@ -1,0 +1,280 @@
+//! Per-frame inputs of [`VolumetricFog`](super::VolumetricFog), its passes and their
+//! timings.
+
+use glam::{Mat4, Vec3};
+
+use super::config::FogConfig;
+use crate::cpu::ambient::AmbientSh;
+use crate::cpu::froxel::froxel_jitter;
+use crate::limits::{InvalidValue, check};
+use crate::uniforms::{
+    DirectionalLight, FogFrame, FogLight, FogLighting, FogMedium, Froxels, HeightFog, LocalVolume,
+    ShadowCascades,
+};
+
+/// The uniforms one frame's inputs become: what
+/// [`VolumetricFog::prepare`](super::VolumetricFog::prepare) uploads (the light and
+/// local volume arrays aside).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FrameUniforms {
+    /// Froxel placement (from the projection and the configuration).
+    pub froxels: Froxels,
+    /// Camera, time, jitter and history switches.
+    pub frame: FogFrame,
+    /// The medium with its local volume count.
+    pub medium: FogMedium,
+    /// Sun, ambient and light count.
+    pub lighting: FogLighting,
+    /// Shadow cascades.
+    pub cascades: ShadowCascades,
+    /// The far-plane tail in view space.
+    pub tail: HeightFog,
+}
+
+/// Per-frame inputs.
+#[derive(Debug, Clone)]
+pub struct FrameInputs<'a> {
+    /// World -> view transform of the camera (right-handed, looking down -Z).
+    pub view_from_world: Mat4,
+    /// Perspective projection (view -> clip, WebGPU depth range; standard, reversed or
+    /// infinite). Orthographic projections are rejected.
+    pub clip_from_view: Mat4,
+    /// Seconds since start (noise animation, density scrolling).
+    pub time: f32,
+    /// The medium.
+    pub medium: FogMedium,
+    /// The directional light.
+    pub sun: DirectionalLight,
+    /// Ambient radiance as L1 SH.
+    pub ambient: AmbientSh,
+    /// Point and spot lights (at most `FogConfig::max_lights`).
+    pub lights: &'a [FogLight],
+    /// Local volumes (at most `FogConfig::max_local_volumes`).
+    pub local_volumes: &'a [LocalVolume],
+    /// Shadow cascades; `count` 0 disables shadows. With `count` > 0 a shadow map must
+    /// be set ([`VolumetricFog::set_shadow_map`](super::VolumetricFog::set_shadow_map)).
+    pub cascades: ShadowCascades,
+    /// Drop the history (after a camera cut).
+    pub reset_history: bool,
+    /// Analytic height fog continuing beyond the far plane when applying (world
+    /// space; see [`HeightFog::from_medium`]); [`HeightFog::none`] for none.
+    pub tail: HeightFog,
+}
+
+impl FrameInputs<'_> {
+    /// Inputs with the default medium and sun, a dim constant ambient, no lights, no
+    /// local volumes and no shadows.
+    pub fn new(view_from_world: Mat4, clip_from_view: Mat4, time: f32) -> Self {
+        Self {
+            view_from_world,
+            clip_from_view,
+            time,
+            medium: FogMedium::default(),
+            sun: DirectionalLight::default(),
+            ambient: AmbientSh::constant(Vec3::new(0.08, 0.1, 0.14)),
+            lights: &[],
+            local_volumes: &[],
+            cascades: ShadowCascades::default(),
+            reset_history: false,
+            tail: HeightFog::none(),
+        }
+    }
+
+    /// Checks every input against the configuration (the projection is checked when
+    /// the froxel placement is built from it).
+    pub fn validate(&self, config: &FogConfig) -> Result<(), InvalidValue> {
+        check(
+            self.view_from_world.is_finite() && self.view_from_world.determinant().abs() > 1e-12,
+            "FrameInputs.view_from_world",
+            self.view_from_world,
+            "a finite, invertible transform",
+        )?;
+        check(
+            self.time.is_finite(),
+            "FrameInputs.time",
+            self.time,
+            "a finite time",
+        )?;
+        self.medium.validate()?;
+        self.sun.validate()?;
+        check(
+            self.ambient.rgb.iter().all(|v| v.is_finite()),
+            "FrameInputs.ambient",
+            self.ambient,
+            "finite SH coefficients",
+        )?;
+        check(
+            self.lights.len() <= config.max_lights as usize,
+            "FrameInputs.lights",
+            self.lights.len(),
+            format!(
+                "at most FogConfig.max_lights = {} lights",
+                config.max_lights
+            ),
+        )?;
+        for light in self.lights {
+            light.validate()?;
+        }
+        check(
+            self.local_volumes.len() <= config.max_local_volumes as usize,
+            "FrameInputs.local_volumes",
+            self.local_volumes.len(),
+            format!(
+                "at most FogConfig.max_local_volumes = {} volumes",
+                config.max_local_volumes
+            ),
+        )?;
+        for volume in self.local_volumes {
+            volume.validate()?;
+        }
+        self.cascades.validate(config.esm_log_space)?;
+        check(
+            self.cascades.count <= config.cascades,
+            "ShadowCascades.count",
+            self.cascades.count,
+            format!("at most FogConfig.cascades = {}", config.cascades),
+        )?;
+        self.tail.validate()
+    }
+
+    /// Checks the inputs and builds the uniforms of frame `index` (frames prepared
+    /// before it: it picks the jitter).
+    pub fn uniforms(&self, config: &FogConfig, index: u32) -> Result<FrameUniforms, InvalidValue> {
+        let froxels = Froxels::new(
+            self.clip_from_view,
+            config.volume_size,
+            config.near,
+            config.far,
+            config.slice_curve,
+        )?;
+        self.validate(config)?;
+        let world_from_view = self.view_from_world.inverse();
+        let frame = FogFrame {
+            world_from_view,
+            clip_from_world: self.clip_from_view * self.view_from_world,
+            camera_position: world_from_view.w_axis.truncate(),
+            time: self.time,
+            jitter: if config.jitter {
+                froxel_jitter(index)
+            } else {
+                Vec3::ZERO
+            },
+            history_weight: config.history_weight,
+            index,
+            history_enabled: u32::from(!self.reset_history),
+        };
+        Ok(FrameUniforms {
+            froxels,
+            frame,
+            medium: FogMedium {
+                local_volume_count: self.local_volumes.len() as u32,
+                ..self.medium
+            },
+            lighting: FogLighting {
+                sun: self.sun,
+                ambient_r: self.ambient.rgb[0],
+                ambient_g: self.ambient.rgb[1],
+                ambient_b: self.ambient.rgb[2],
+                light_count: self.lights.len() as u32,
+            },
+            cascades: self.cascades,
+            tail: self.tail.to_view_space(self.view_from_world),
+        })
+    }
+}
+
+/// GPU time per pass in milliseconds (when timestamps are enabled and supported).
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct PassTimings {
+    /// ESM downsample.
+    pub esm_downsample: f64,
+    /// ESM blur (both directions).
+    pub esm_blur: f64,
+    /// Inject.
+    pub inject: f64,
+    /// Temporal reprojection.
+    pub temporal: f64,
+    /// Scan.
+    pub scan: f64,
+    /// Fullscreen apply (recorded with `VolumetricFog::record_apply`).
+    pub apply: f64,
+}
+
+impl PassTimings {
+    pub(crate) fn from_ms(ms: &[f64]) -> Self {
+        Self {
+            esm_downsample: ms[0],
+            esm_blur: ms[1],
+            inject: ms[2],
+            temporal: ms[3],
+            scan: ms[4],
+            apply: ms[5],
+        }
+    }
+}
+
+/// The compute passes of a frame, in the order [`VolumetricFog::encode`] records them
+/// (see [`VolumetricFog::encode_pass`]).
+///
+/// [`VolumetricFog::encode`]: super::VolumetricFog::encode
+/// [`VolumetricFog::encode_pass`]: super::VolumetricFog::encode_pass
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum FogPass {
+    /// ESM downsample (only with a shadow map and cascades).
+    EsmDownsample,
+    /// ESM blur, both directions (only with a shadow map and cascades).
+    EsmBlur,
+    /// Density and lighting injection.
+    Inject,
+    /// Temporal reprojection (only with `FogConfig::temporal`).
+    Temporal,
+    /// Front-to-back integration.
+    Scan,
+}
+
+impl FogPass {
+    /// Every pass, in order.
+    pub const ALL: [FogPass; 5] = [
+        FogPass::EsmDownsample,
+        FogPass::EsmBlur,
+        FogPass::Inject,
+        FogPass::Temporal,
+        FogPass::Scan,
+    ];
+
+    /// Its timestamp pair (the apply pass is pair 5).
+    pub(crate) fn timestamp_pair(self) -> u32 {
+        self as u32
+    }
+}
+
+/// Timestamp pairs: the five compute passes and the apply.
+pub(crate) const TIMESTAMP_PAIRS: u32 = 6;
+/// The timestamp pair of the apply pass.
+pub(crate) const APPLY_PAIR: u32 = 5;
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::limits;
+
+    #[test]
+    fn local_volumes_are_checked_as_their_constructor_checks() {
+        let config = FogConfig::default();
+        let proj = glam::camera::rh::proj::directx::perspective(1.0, 1.5, 0.1, 100.0);
+        let bad = LocalVolume {
+            local_from_world: Mat4::IDENTITY,
+            density: 2.0e3,
+            edge: 0.5,
+            shape: 0,
+        };
+        let volumes = [bad];
+        let inputs = FrameInputs {
+            local_volumes: &volumes,
+            ..FrameInputs::new(Mat4::IDENTITY, proj, 0.0)
+        };
+        let err = inputs.validate(&config).unwrap_err();
+        assert_eq!(err.field, "LocalVolume.density");
+        assert_eq!(err.expected, limits::LOCAL_VOLUME_DENSITY.describe());
+    }
+}

@@ -1,0 +1,273 @@
+//! The textures and buffers of a [`VolumetricFog`](super::VolumetricFog), the check
+//! that a device can hold them, and the checks of the textures a user hands over.
+
+use glam::UVec3;
+
+use super::config::FogConfig;
+use super::error::FogError;
+use crate::pipeline::esm::ESM_FORMAT;
+
+/// The volume texel format.
+pub const VOLUME_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
+
+/// Shadow map formats the ESM downsample reads (as unfilterable float).
+pub const SHADOW_MAP_FORMATS: [wgpu::TextureFormat; 3] = [
+    wgpu::TextureFormat::Depth32Float,
+    wgpu::TextureFormat::Depth16Unorm,
+    wgpu::TextureFormat::R32Float,
+];
+
+pub(crate) fn volume_texture(device: &wgpu::Device, label: &str, size: UVec3) -> wgpu::Texture {
+    device.create_texture(&wgpu::TextureDescriptor {
+        label: Some(label),
+        size: wgpu::Extent3d {
+            width: size.x,
+            height: size.y,
+            depth_or_array_layers: size.z,
+        },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D3,
+        format: VOLUME_FORMAT,
+        usage: wgpu::TextureUsages::STORAGE_BINDING
+            | wgpu::TextureUsages::TEXTURE_BINDING
+            | wgpu::TextureUsages::COPY_SRC,
+        view_formats: &[],
+    })
+}
+
+pub(crate) fn esm_texture(
+    device: &wgpu::Device,
+    label: &str,
+    size: u32,
+    layers: u32,
+) -> wgpu::Texture {
+    device.create_texture(&wgpu::TextureDescriptor {
+        label: Some(label),
+        size: wgpu::Extent3d {
+            width: size,
+            height: size,
+            depth_or_array_layers: layers,
+        },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format: ESM_FORMAT,
+        usage: wgpu::TextureUsages::STORAGE_BINDING
+            | wgpu::TextureUsages::TEXTURE_BINDING
+            | wgpu::TextureUsages::COPY_SRC,
+        view_formats: &[],
+    })
+}
+
+/// A `D2Array` view of a 2D texture (the depth aspect of a depth format).
+pub(crate) fn array_view(texture: &wgpu::Texture) -> wgpu::TextureView {
+    texture.create_view(&wgpu::TextureViewDescriptor {
+        dimension: Some(wgpu::TextureViewDimension::D2Array),
+        aspect: if texture.format().has_depth_aspect() {
+            wgpu::TextureAspect::DepthOnly
+        } else {
+            wgpu::TextureAspect::All
+        },
+        ..Default::default()
+    })
+}
+
+pub(crate) fn uniform_buffer(device: &wgpu::Device, label: &str, size: usize) -> wgpu::Buffer {
+    device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some(label),
+        size: size as u64,
+        usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    })
+}
+
+pub(crate) fn storage_buffer(device: &wgpu::Device, label: &str, size: usize) -> wgpu::Buffer {
+    device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some(label),
+        size: size as u64,
+        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    })
+}
+
+/// Bytes of a texture's texels (one mip level).
+pub(crate) fn texture_bytes(t: &wgpu::Texture) -> u64 {
+    let s = t.size();
+    let texel = u64::from(t.format().block_copy_size(None).unwrap_or(4));
+    u64::from(s.width) * u64::from(s.height) * u64::from(s.depth_or_array_layers) * texel
+}
+
+fn mismatch(
+    texture: &'static str,
+    property: &'static str,
+    found: impl std::fmt::Debug,
+    expected: String,
+) -> FogError {
+    FogError::Texture {
+        texture,
+        property,
+        found: format!("{found:?}"),
+        expected,
+    }
+}
+
+/// Checks a cascaded shadow map against the configuration: a 2D texture of
+/// `4 * esm_resolution` texels per side with a layer per cascade, single-sampled, in a
+/// format the downsample reads, usable as a texture binding.
+pub(crate) fn check_shadow_map(
+    texture: &wgpu::Texture,
+    config: &FogConfig,
+) -> Result<(), FogError> {
+    const WHAT: &str = "the shadow map";
+    let (side, layers) = config.shadow_map_size();
+    let size = texture.size();
+    if texture.dimension() != wgpu::TextureDimension::D2 {
+        return Err(mismatch(
+            WHAT,
+            "dimension",
+            texture.dimension(),
+            "D2 (with array layers)".into(),
+        ));
+    }
+    if size.width != side || size.height != side {
+        return Err(mismatch(
+            WHAT,
+            "size",
+            (size.width, size.height),
+            format!("{side} x {side} texels (4 x FogConfig.esm_resolution)"),
+        ));
+    }
+    if size.depth_or_array_layers < layers {
+        return Err(mismatch(
+            WHAT,
+            "layer count",
+            size.depth_or_array_layers,
+            format!("at least FogConfig.cascades = {layers}"),
+        ));
+    }
+    if !SHADOW_MAP_FORMATS.contains(&texture.format()) {
+        return Err(mismatch(
+            WHAT,
+            "format",
+            texture.format(),
+            format!("one of {SHADOW_MAP_FORMATS:?}"),
+        ));
+    }
+    if texture.sample_count() != 1 {
+        return Err(mismatch(
+            WHAT,
+            "sample count",
+            texture.sample_count(),
+            "1".into(),
+        ));
+    }
+    if !texture
+        .usage()
+        .contains(wgpu::TextureUsages::TEXTURE_BINDING)
+    {
+        return Err(mismatch(
+            WHAT,
+            "usage",
+            texture.usage(),
+            "TEXTURE_BINDING".into(),
+        ));
+    }
+    Ok(())
+}
+
+/// Checks a density texture: 3D, filterable on this device, usable as a texture
+/// binding (its r channel multiplies the density).
+pub(crate) fn check_density_texture(
+    texture: &wgpu::Texture,
+    device: &wgpu::Device,
+) -> Result<(), FogError> {
+    const WHAT: &str = "the density texture";
+    if texture.dimension() != wgpu::TextureDimension::D3 {
+        return Err(mismatch(
+            WHAT,
+            "dimension",
+            texture.dimension(),
+            "D3".into(),
+        ));
+    }
+    let filterable = texture
+        .format()
+        .guaranteed_format_features(device.features())
+        .flags
+        .contains(wgpu::TextureFormatFeatureFlags::FILTERABLE)
+        && matches!(
+            texture.format().sample_type(None, Some(device.features())),
+            Some(wgpu::TextureSampleType::Float { filterable: true })
+        );
+    if !filterable {
+        return Err(mismatch(
+            WHAT,
+            "format",
+            texture.format(),
+            "a filterable float format (e.g. R8Unorm, R16Float)".into(),
+        ));
+    }
+    if !texture
+        .usage()
+        .contains(wgpu::TextureUsages::TEXTURE_BINDING)
+    {
+        return Err(mismatch(
+            WHAT,
+            "usage",
+            texture.usage(),
+            "TEXTURE_BINDING".into(),
+        ));
+    }
+    Ok(())
+}
+
+/// Checks that a device can run a configuration.
+pub fn check_device(device: &wgpu::Device, config: &FogConfig) -> Result<(), FogError> {
+    let limits = device.limits();
+    let s = config.volume_size;
+    if s.max_element() > limits.max_texture_dimension_3d {
+        return Err(FogError::MissingCapability {
+            what: "3D textures of the volume size",
+            detail: format!(
+                "volume {s} needs max_texture_dimension_3d >= {}, the device allows {}",
+                s.max_element(),
+                limits.max_texture_dimension_3d
+            ),
+        });
+    }
+    let shadow = config.esm_resolution * 4;
+    if shadow > limits.max_texture_dimension_2d || config.cascades > limits.max_texture_array_layers
+    {
+        return Err(FogError::MissingCapability {
+            what: "2D array textures of the shadow map size",
+            detail: format!(
+                "{shadow} x {shadow} x {} needs max_texture_dimension_2d >= {shadow} and max_texture_array_layers >= {}, the device allows {} and {}",
+                config.cascades,
+                config.cascades,
+                limits.max_texture_dimension_2d,
+                limits.max_texture_array_layers
+            ),
+        });
+    }
+    if limits.max_storage_buffers_per_shader_stage < 2
+        || limits.max_storage_textures_per_shader_stage < 1
+    {
+        return Err(FogError::MissingCapability {
+            what: "storage buffers and textures in compute shaders",
+            detail: format!(
+                "2 storage buffers and 1 storage texture per stage are needed, the device allows {} and {}",
+                limits.max_storage_buffers_per_shader_stage,
+                limits.max_storage_textures_per_shader_stage
+            ),
+        });
+    }
+    if config.timestamps && !device.features().contains(wgpu::Features::TIMESTAMP_QUERY) {
+        return Err(FogError::MissingCapability {
+            what: "timestamp queries",
+            detail: "FogConfig.timestamps needs Features::TIMESTAMP_QUERY enabled on the device"
+                .to_string(),
+        });
+    }
+    Ok(())
+}

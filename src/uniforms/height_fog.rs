@@ -1,0 +1,138 @@
+//! `HeightFog`: the closed-form global height fog of `volfog::height_fog`, also the
+//! analytic tail beyond a froxel volume's far plane.
+
+use encase::ShaderType;
+use glam::{Mat4, Vec3};
+
+use super::{FogMedium, check_channels, check_unit};
+use crate::limits::{self, InvalidValue};
+
+/// Closed-form global height fog (WGSL `volfog::types::HeightFog`, used by
+/// `volfog::height_fog`): extinction `density * exp(-falloff * (dot(p, up) - base_height))`
+/// lit by `color` plus an optional sun lobe. `Default` is a placeholder for layout
+/// probes; build one with [`HeightFog::new`] (and [`HeightFog::with_sun`]).
+#[derive(Debug, Clone, Copy, PartialEq, Default, ShaderType)]
+pub struct HeightFog {
+    /// In-scattered radiance (linear rgb), [0, 1e9].
+    pub color: Vec3,
+    /// Extinction on the reference plane (1/m), [0, 1e3].
+    pub density: f32,
+    /// Unit axis the density falls along.
+    pub up: Vec3,
+    /// Falloff along `up` (1/m), [-1e3, 1e3].
+    pub falloff: f32,
+    /// Unit direction from the scene towards the sun.
+    pub sun_direction: Vec3,
+    /// Height (m along `up`) of the reference plane, |h| <= 1e9.
+    pub base_height: f32,
+    /// Sun light scattered by the fog (linear rgb, radiance * sr), [0, 1e9].
+    pub sun_color: Vec3,
+    /// HG mean cosine of the sun lobe, [-0.999, 0.999].
+    pub sun_g: f32,
+}
+
+impl HeightFog {
+    /// Height fog without a sun lobe. `up` is normalised (it must have unit length
+    /// within 1e-3).
+    pub fn new(
+        color: Vec3,
+        density: f32,
+        up: Vec3,
+        falloff: f32,
+        base_height: f32,
+    ) -> Result<Self, InvalidValue> {
+        check_channels("HeightFog.color", color, &limits::FOG_RADIANCE)?;
+        limits::FOG_DENSITY.check("HeightFog.density", density)?;
+        check_unit("HeightFog.up", up)?;
+        limits::FOG_FALLOFF.check("HeightFog.falloff", falloff)?;
+        limits::FOG_POSITION.check("HeightFog.base_height", base_height)?;
+        let up = up.normalize();
+        Ok(Self {
+            color,
+            density,
+            up,
+            falloff,
+            sun_direction: up,
+            base_height,
+            sun_color: Vec3::ZERO,
+            sun_g: 0.0,
+        })
+    }
+
+    /// Checks every value as [`HeightFog::new`] and [`HeightFog::with_sun`] do.
+    pub fn validate(&self) -> Result<(), InvalidValue> {
+        Self::new(
+            self.color,
+            self.density,
+            self.up,
+            self.falloff,
+            self.base_height,
+        )?
+        .with_sun(self.sun_direction, self.sun_color, self.sun_g)
+        .map(|_| ())
+    }
+
+    /// No fog: density 0 (the apply tail is then empty).
+    pub fn none() -> Self {
+        Self {
+            color: Vec3::ZERO,
+            density: 0.0,
+            up: Vec3::Y,
+            falloff: 0.0,
+            sun_direction: Vec3::Y,
+            base_height: 0.0,
+            sun_color: Vec3::ZERO,
+            sun_g: 0.0,
+        }
+    }
+
+    /// The same fog expressed in the view space of `view_from_world` (a rigid
+    /// transform), as the apply tail expects: the up axis and sun direction rotated,
+    /// the base height measured from the camera.
+    pub fn to_view_space(&self, view_from_world: Mat4) -> Self {
+        let camera = view_from_world.inverse().w_axis.truncate();
+        Self {
+            up: view_from_world
+                .transform_vector3(self.up)
+                .normalize_or(Vec3::Y),
+            sun_direction: view_from_world
+                .transform_vector3(self.sun_direction)
+                .normalize_or(Vec3::Y),
+            base_height: self.base_height - camera.dot(self.up),
+            ..*self
+        }
+    }
+
+    /// The height fog matching a froxel medium's height profile (noise and local
+    /// volumes aside), lit by a constant radiance: use it as the apply tail so the
+    /// fog continues beyond the volume's far plane with the same density.
+    pub fn from_medium(medium: &FogMedium, color: Vec3) -> Self {
+        Self {
+            color,
+            density: medium.density,
+            up: medium.up,
+            falloff: medium.height_falloff,
+            base_height: medium.base_height,
+            ..Self::none()
+        }
+    }
+
+    /// Adds a Henyey-Greenstein sun lobe: `sun_color * HG(dot(view_dir, direction), g)`
+    /// is added to the in-scattered radiance. `direction` points towards the sun.
+    pub fn with_sun(self, direction: Vec3, sun_color: Vec3, g: f32) -> Result<Self, InvalidValue> {
+        check_unit("HeightFog.sun_direction", direction)?;
+        check_channels("HeightFog.sun_color", sun_color, &limits::FOG_RADIANCE)?;
+        limits::FOG_SUN_G.check("HeightFog.sun_g", g)?;
+        Ok(Self {
+            sun_direction: direction.normalize(),
+            sun_color,
+            sun_g: g,
+            ..self
+        })
+    }
+
+    /// The uniform buffer bytes.
+    pub fn to_bytes(&self) -> Vec<u8> {
+        super::to_uniform_bytes(self)
+    }
+}

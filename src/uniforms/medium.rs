@@ -1,0 +1,164 @@
+//! `FogMedium` (the froxel volume's participating medium) and `LocalVolume` (a box
+//! or ellipsoid that adds or clears fog).
+
+use encase::ShaderType;
+use glam::{Mat4, Vec3};
+
+use super::{check_finite, check_invertible, check_unit};
+use crate::limits::{self, InvalidValue, Range, check};
+
+/// The participating medium (WGSL `volfog::types::FogMedium`).
+#[derive(Debug, Clone, Copy, PartialEq, ShaderType)]
+pub struct FogMedium {
+    /// Single-scattering albedo per channel, [0, 1].
+    pub albedo: Vec3,
+    /// Extinction at `base_height` (1/m), see [`limits::MEDIUM_DENSITY`].
+    pub density: f32,
+    /// Unit up axis of the height gradient.
+    pub up: Vec3,
+    /// Height falloff (1/m), see [`limits::MEDIUM_FALLOFF`].
+    pub height_falloff: f32,
+    /// Wind velocity (m/s).
+    pub wind: Vec3,
+    /// Height (m) where the extinction equals `density`.
+    pub base_height: f32,
+    /// World -> density texture coordinate scale (1/m).
+    pub texture_scale: Vec3,
+    /// Noise amplitude in [0, 1].
+    pub noise_strength: f32,
+    /// Density texture coordinate offset.
+    pub texture_offset: Vec3,
+    /// Noise frequency (1/m), > 0.
+    pub noise_scale: f32,
+    /// Henyey-Greenstein mean cosine, (-1, 1).
+    pub phase_g: f32,
+    /// Number of local volumes in use (set by the runtime).
+    pub local_volume_count: u32,
+}
+
+impl Default for FogMedium {
+    fn default() -> Self {
+        Self {
+            albedo: Vec3::splat(0.9),
+            density: 0.02,
+            up: Vec3::Y,
+            height_falloff: 0.05,
+            wind: Vec3::new(1.0, 0.0, 0.5),
+            base_height: 0.0,
+            texture_scale: Vec3::splat(0.05),
+            noise_strength: 0.5,
+            texture_offset: Vec3::ZERO,
+            noise_scale: 0.15,
+            phase_g: 0.4,
+            local_volume_count: 0,
+        }
+    }
+}
+
+impl FogMedium {
+    /// Checks every value that could produce NaN, Inf or nonsense on the GPU.
+    pub fn validate(&self) -> Result<(), InvalidValue> {
+        super::check_channels("FogMedium.albedo", self.albedo, &Range::new(0.0, 1.0, ""))?;
+        limits::MEDIUM_DENSITY.check("FogMedium.density", self.density)?;
+        check_unit("FogMedium.up", self.up)?;
+        limits::MEDIUM_FALLOFF.check("FogMedium.height_falloff", self.height_falloff)?;
+        check_finite("FogMedium.wind", self.wind, "a finite velocity")?;
+        check(
+            self.base_height.is_finite(),
+            "FogMedium.base_height",
+            self.base_height,
+            "a finite height",
+        )?;
+        check_finite(
+            "FogMedium.texture_scale",
+            self.texture_scale,
+            "finite values",
+        )?;
+        check_finite(
+            "FogMedium.texture_offset",
+            self.texture_offset,
+            "finite values",
+        )?;
+        Range::new(0.0, 1.0, "").check("FogMedium.noise_strength", self.noise_strength)?;
+        check(
+            self.noise_scale.is_finite() && self.noise_scale > 0.0,
+            "FogMedium.noise_scale",
+            self.noise_scale,
+            "a finite frequency > 0 (1/m)",
+        )?;
+        check(
+            self.phase_g > -1.0 && self.phase_g < 1.0,
+            "FogMedium.phase_g",
+            self.phase_g,
+            "-1 < g < 1",
+        )
+    }
+}
+
+/// Shape of a [`LocalVolume`] or an analytic [`FogVolume`](super::FogVolume).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[repr(u32)]
+pub enum VolumeShape {
+    /// The box [-1, 1]^3 in local space.
+    Box = 0,
+    /// The unit sphere in local space.
+    Ellipsoid = 1,
+}
+
+/// A local fog volume (WGSL `volfog::types::LocalVolume`).
+#[derive(Debug, Clone, Copy, PartialEq, Default, ShaderType)]
+pub struct LocalVolume {
+    /// World -> unit shape space.
+    pub local_from_world: Mat4,
+    /// Extinction added inside (1/m); negative clears fog. See
+    /// [`limits::LOCAL_VOLUME_DENSITY`].
+    pub density: f32,
+    /// Edge falloff width, fraction of the unit extent, (0, 1].
+    pub edge: f32,
+    /// 0 box, 1 ellipsoid.
+    pub shape: u32,
+}
+
+impl LocalVolume {
+    /// A volume covering `world_from_local` applied to the unit shape.
+    pub fn new(
+        world_from_local: Mat4,
+        shape: VolumeShape,
+        density: f32,
+        edge: f32,
+    ) -> Result<Self, InvalidValue> {
+        check_invertible(
+            "LocalVolume.world_from_local",
+            world_from_local,
+            1e-12,
+            "a finite, invertible transform",
+        )?;
+        let volume = Self {
+            local_from_world: world_from_local.inverse(),
+            density,
+            edge,
+            shape: shape as u32,
+        };
+        volume.validate()?;
+        Ok(volume)
+    }
+
+    /// Checks every member, as [`LocalVolume::new`] does (for volumes built member by
+    /// member).
+    pub fn validate(&self) -> Result<(), InvalidValue> {
+        check_invertible(
+            "LocalVolume.local_from_world",
+            self.local_from_world,
+            0.0,
+            "a finite, invertible transform",
+        )?;
+        limits::LOCAL_VOLUME_DENSITY.check("LocalVolume.density", self.density)?;
+        limits::LOCAL_VOLUME_EDGE.check("LocalVolume.edge", self.edge)?;
+        check(
+            self.shape <= VolumeShape::Ellipsoid as u32,
+            "LocalVolume.shape",
+            self.shape,
+            "0 (box) or 1 (ellipsoid)",
+        )
+    }
+}

@@ -1,0 +1,59 @@
+//! `ShadowCascades`: the sun's cascaded shadow maps as the ESM passes and the
+//! injection read them.
+
+use encase::ShaderType;
+use glam::{Mat4, Vec4};
+
+use crate::limits::{self, InvalidValue, Range, check};
+
+/// Cascaded shadow maps of the directional light (WGSL `volfog::types::ShadowCascades`).
+#[derive(Debug, Clone, Copy, PartialEq, Default, ShaderType)]
+pub struct ShadowCascades {
+    /// World -> light clip space per cascade.
+    pub light_from_world: [Mat4; limits::MAX_CASCADES],
+    /// Far view depth of each cascade (m).
+    pub splits: Vec4,
+    /// Cascades in use, 0..=4.
+    pub count: u32,
+    /// ESM exponent, see [`limits::ESM_EXPONENT`].
+    pub exponent: f32,
+}
+
+impl ShadowCascades {
+    /// The exponent range for linear or log-space (`VOLFOG_ESM_LOG_SPACE`) filtering.
+    pub fn exponent_range(log_space: bool) -> Range<f32> {
+        if log_space {
+            limits::ESM_EXPONENT_LOG_SPACE
+        } else {
+            limits::ESM_EXPONENT
+        }
+    }
+
+    /// Checks the values; `log_space` tells whether the ESM is filtered in log space
+    /// (`VOLFOG_ESM_LOG_SPACE`), which lifts the exponent limit of 88.
+    pub fn validate(&self, log_space: bool) -> Result<(), InvalidValue> {
+        Range::new(0, limits::MAX_CASCADES as u32, "cascades")
+            .check("ShadowCascades.count", self.count)?;
+        let n = self.count as usize;
+        check(
+            self.light_from_world[..n]
+                .iter()
+                .all(|m| m.is_finite() && m.determinant().abs() > 0.0),
+            "ShadowCascades.light_from_world",
+            &self.light_from_world[..n],
+            "finite, invertible matrices",
+        )?;
+        let splits = self.splits.to_array();
+        check(
+            splits[..n].iter().all(|s| s.is_finite() && *s > 0.0)
+                && splits[..n].windows(2).all(|w| w[0] < w[1]),
+            "ShadowCascades.splits",
+            self.splits,
+            "increasing finite depths > 0 m",
+        )?;
+        if self.count == 0 {
+            return Ok(());
+        }
+        Self::exponent_range(log_space).check("ShadowCascades.exponent", self.exponent)
+    }
+}

@@ -1,0 +1,197 @@
+//! A small froxel scene for pipeline tests: a camera, a sun straight overhead with an
+//! optional slab occluder in its shadow map, and helpers to run `VolumetricFog` frames.
+
+use glam::{Mat4, UVec3, Vec3, Vec4};
+use volfog::cpu::esm::Layer;
+use volfog::cpu::froxel::froxel_jitter;
+use volfog::pipeline::{
+    FogConfig, FrameInputs, FrameUniforms, VolumetricFog, cascade_projection, cascade_splits,
+};
+use volfog::uniforms::{FogFrame, FogLighting, FogMedium, Froxels, ShadowCascades};
+
+use crate::gpu::Gpu;
+
+/// A horizontal slab occluder: x and z ranges (m), height of its top (m).
+#[derive(Debug, Clone, Copy)]
+pub struct Slab {
+    /// x range (m).
+    pub x: (f32, f32),
+    /// z range (m).
+    pub z: (f32, f32),
+    /// Height of the top face (m).
+    pub top: f32,
+}
+
+/// The scene's projection: 60 degrees vertical, 16:9, standard depth, 0.1..500 m.
+pub fn projection() -> Mat4 {
+    glam::camera::rh::proj::directx::perspective(60f32.to_radians(), 16.0 / 9.0, 0.1, 500.0)
+}
+
+/// Camera at (0, eye_height, 0) looking along -Z, pitched by `pitch` radians.
+pub fn view(eye_height: f32, pitch: f32) -> Mat4 {
+    let dir = Vec3::new(0.0, pitch.sin(), -pitch.cos());
+    glam::camera::rh::view::look_to_mat4(Vec3::new(0.0, eye_height, 0.0), dir, Vec3::Y)
+}
+
+/// A small configuration (32 x 18 x 48, two cascades, no jitter, no temporal) that
+/// runs quickly on a software adapter.
+pub fn small_config() -> FogConfig {
+    FogConfig {
+        volume_size: UVec3::new(32, 18, 48),
+        near: 0.5,
+        far: 64.0,
+        slice_curve: 3.0,
+        esm_resolution: 128,
+        cascades: 2,
+        esm_exponent: 80.0,
+        max_lights: 8,
+        max_local_volumes: 4,
+        jitter: false,
+        temporal: false,
+        ..FogConfig::default()
+    }
+}
+
+/// Cascades for a sun straight overhead covering the camera's surroundings, and
+/// the matching shadow-map depths of an optional slab.
+pub fn overhead_sun(config: &FogConfig, slab: Option<Slab>) -> (ShadowCascades, Vec<Layer>) {
+    let up = Vec3::Y;
+    let mut cascades = ShadowCascades {
+        splits: cascade_splits(config.cascades, config.near, config.far, 0.5),
+        count: config.cascades,
+        exponent: config.esm_exponent,
+        ..Default::default()
+    };
+    let size = config.esm_resolution * 4;
+    let mut layers = Vec::new();
+    for i in 0..config.cascades as usize {
+        let half = 10.0 * (i as f32 + 1.0) * 3.5;
+        let m = cascade_projection(up, Vec3::new(0.0, 0.0, -half * 0.8), half, 60.0);
+        cascades.light_from_world[i] = m;
+        let inv = m.inverse();
+        let texels = (0..size * size)
+            .map(|t| {
+                let (x, y) = (t % size, t / size);
+                let u = (x as f32 + 0.5) / size as f32;
+                let v = (y as f32 + 0.5) / size as f32;
+                let world = inv.project_point3(Vec3::new(u * 2.0 - 1.0, 1.0 - v * 2.0, 0.5));
+                match slab {
+                    Some(s)
+                        if (s.x.0..s.x.1).contains(&world.x)
+                            && (s.z.0..s.z.1).contains(&world.z) =>
+                    {
+                        m.project_point3(Vec3::new(world.x, s.top, world.z)).z
+                    }
+                    _ => 1.0,
+                }
+            })
+            .collect();
+        layers.push(Layer {
+            width: size,
+            height: size,
+            texels,
+        });
+    }
+    (cascades, layers)
+}
+
+/// Runs `frames` frames (inputs from `inputs(frame)`, one submit each) and calls
+/// `each(frame, fog)` after each submit.
+pub fn run_frames<'a>(
+    gpu: &Gpu,
+    fog: &mut VolumetricFog,
+    frames: u32,
+    mut inputs: impl FnMut(u32) -> FrameInputs<'a>,
+    mut each: impl FnMut(u32, &VolumetricFog),
+) {
+    for f in 0..frames {
+        fog.prepare(&gpu.queue, &inputs(f)).expect("valid inputs");
+        let mut encoder = gpu.device.create_command_encoder(&Default::default());
+        fog.encode(&mut encoder).expect("a prepared frame");
+        gpu.queue.submit([encoder.finish()]);
+        each(f, fog);
+    }
+}
+
+/// Reads an rgba16float volume back.
+pub fn read_volume(gpu: &Gpu, texture: &wgpu::Texture) -> Vec<Vec4> {
+    gpu.read_texture_rgba16f(texture).expect("readback")
+}
+
+/// Reads the fog's filtered ESM back, one layer per cascade.
+pub fn read_esm(gpu: &Gpu, fog: &VolumetricFog) -> Vec<Layer> {
+    let t = fog.esm_texture();
+    let raw = gpu.read_texture_raw(t, 4).expect("readback");
+    let values: &[f32] = bytemuck::cast_slice(&raw);
+    let s = t.size();
+    values
+        .chunks_exact((s.width * s.height) as usize)
+        .map(|c| Layer {
+            width: s.width,
+            height: s.height,
+            texels: c.to_vec(),
+        })
+        .collect()
+}
+
+/// The index of froxel (x, y, z) in a volume read back (x fastest).
+pub fn index(size: UVec3, x: u32, y: u32, z: u32) -> usize {
+    ((z * size.y + y) * size.x + x) as usize
+}
+
+/// A Depth32Float shadow map holding `layers` (one array layer each), as
+/// `VolumetricFog::set_shadow_map` takes it.
+pub fn shadow_map(gpu: &Gpu, layers: &[Layer]) -> wgpu::Texture {
+    let slices: Vec<&[f32]> = layers.iter().map(|l| l.texels.as_slice()).collect();
+    crate::selfcheck::depth_array_texture(gpu, layers[0].width, layers[0].height, &slices)
+        .expect("the shadow map is written")
+}
+
+/// The uniforms of frame `index` (frames prepared before it) of `inputs`, written here
+/// from what each member means, not by the code `VolumetricFog::prepare` runs: the
+/// CPU references of the pipeline tests start from these.
+pub fn expected_uniforms(
+    config: &FogConfig,
+    inputs: &FrameInputs<'_>,
+    index: u32,
+) -> FrameUniforms {
+    let view_from_world = inputs.view_from_world;
+    let world_from_view = view_from_world.inverse();
+    FrameUniforms {
+        froxels: Froxels {
+            clip_from_view: inputs.clip_from_view,
+            view_from_clip: inputs.clip_from_view.inverse(),
+            size: config.volume_size,
+            near: config.near,
+            far: config.far,
+            curve: config.slice_curve,
+        },
+        frame: FogFrame {
+            world_from_view,
+            clip_from_world: inputs.clip_from_view * view_from_world,
+            camera_position: world_from_view.transform_point3(Vec3::ZERO),
+            time: inputs.time,
+            jitter: if config.jitter {
+                froxel_jitter(index)
+            } else {
+                Vec3::ZERO
+            },
+            history_weight: config.history_weight,
+            index,
+            history_enabled: if inputs.reset_history { 0 } else { 1 },
+        },
+        medium: FogMedium {
+            local_volume_count: inputs.local_volumes.len() as u32,
+            ..inputs.medium
+        },
+        lighting: FogLighting {
+            sun: inputs.sun,
+            ambient_r: inputs.ambient.rgb[0],
+            ambient_g: inputs.ambient.rgb[1],
+            ambient_b: inputs.ambient.rgb[2],
+            light_count: inputs.lights.len() as u32,
+        },
+        cascades: inputs.cascades,
+        tail: inputs.tail.to_view_space(view_from_world),
+    }
+}

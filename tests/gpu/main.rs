@@ -1,0 +1,33 @@
+//! The GPU tests: every module and pass dispatched on one shared device and compared
+//! with the CPU mirror and with independent answers (closed forms, numerical
+//! integration), and the `VolumetricFog` object run frame by frame. Without an adapter
+//! every test fails with the command that installs Mesa's lavapipe.
+
+mod apply;
+mod esm;
+mod far_plane_seam;
+mod fog_volume;
+mod forward_snippet;
+mod height_fog;
+mod hull;
+mod inject;
+mod lightning;
+mod noise;
+mod phase;
+mod pipeline;
+mod properties;
+mod scan;
+mod soft_particles;
+mod temporal;
+
+/// What the test modules share: the device, kernels, inputs and the small scene.
+mod common {
+    pub use volfog_testkit::kernel::{compose, run_f32};
+    pub use volfog_testkit::rng::{Rng, rel_err};
+    pub use volfog_testkit::scene;
+
+    /// The shared device (the test fails with the install command without one).
+    pub fn gpu() -> &'static volfog_testkit::Gpu {
+        volfog_testkit::Gpu::shared()
+    }
+}

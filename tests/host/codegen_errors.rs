@@ -1,0 +1,171 @@
+//! Shader errors are reported with file, line, column and the offending source line;
+//! import paths must match file paths.
+
+use volfog_codegen::CodegenError;
+use volfog_codegen::compose::{Defines, add_module, compose_pass, composer, declared_import_path};
+use volfog_codegen::manifest::{self, Axis, ModuleSource, PassSource};
+
+fn pass(source: &'static str) -> PassSource {
+    PassSource {
+        name: "broken",
+        file: "shaders/passes/broken.wgsl",
+        source,
+        axes: &[],
+        values: &[],
+        usage: "",
+    }
+}
+
+#[test]
+fn wgsl_error_names_file_line_column_and_source() {
+    let broken = pass(
+        "#import volfog::phase::phase_hg\n\
+         @compute @workgroup_size(1)\n\
+         fn main() {\n    let p = phase_hg(0.5, 0.7) + undefined_value;\n}\n",
+    );
+    let mut composer = composer().unwrap();
+    let err = compose_pass(&mut composer, &broken, &Defines::default()).unwrap_err();
+    let text = err.to_string();
+    eprintln!("{text}");
+    assert!(
+        text.contains("shaders/passes/broken.wgsl:4:"),
+        "file:line:column in {text}"
+    );
+    assert!(
+        text.contains("undefined_value"),
+        "the offending line in {text}"
+    );
+}
+
+#[test]
+fn error_in_an_imported_module_points_into_that_module() {
+    let mut composer = composer().unwrap();
+    let bad = ModuleSource {
+        import_path: "volfog::bad",
+        file: "shaders/volfog/bad.wgsl",
+        source: "#define_import_path volfog::bad\n\nfn f() -> f32 {\n    return vec2<f32>(1.0);\n}\n",
+    };
+    add_module(&mut composer, &bad).unwrap();
+    let user =
+        pass("#import volfog::bad::f\n@compute @workgroup_size(1)\nfn main() { let x = f(); }\n");
+    let err = compose_pass(&mut composer, &user, &Defines::default()).unwrap_err();
+    let text = err.to_string();
+    eprintln!("{text}");
+    assert!(text.contains("shaders/volfog/bad.wgsl:3:"), "{text}");
+    assert!(
+        text.contains("return vec2<f32>(1.0);"),
+        "the offending line in {text}"
+    );
+}
+
+#[test]
+fn import_path_must_match_the_file() {
+    let mut composer = naga_oil::compose::Composer::default();
+    let misplaced = ModuleSource {
+        import_path: "volfog::phase",
+        file: "shaders/volfog/phase.wgsl",
+        source: "#define_import_path volfog::phases\nfn f() -> f32 { return 1.0; }\n",
+    };
+    match add_module(&mut composer, &misplaced) {
+        Err(CodegenError::ImportPath {
+            found, expected, ..
+        }) => {
+            assert_eq!(found, "volfog::phases");
+            assert_eq!(expected, "volfog::phase");
+        }
+        other => panic!("expected an import path error, got {other:?}"),
+    }
+}
+
+/// Every file under `shaders/volfog` (read from disk, not from the manifest) declares
+/// `volfog::<file stem>` and is listed in the manifest with the same text; every file
+/// under `shaders/passes` is a pass of the manifest.
+#[test]
+fn every_shader_file_is_in_the_manifest_under_its_path() {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("shaders");
+    let files = |dir: &str| {
+        let mut v: Vec<std::path::PathBuf> = std::fs::read_dir(root.join(dir))
+            .unwrap()
+            .map(|e| e.unwrap().path())
+            .filter(|p| p.extension().is_some_and(|e| e == "wgsl"))
+            .collect();
+        v.sort();
+        v
+    };
+    let modules = files("volfog");
+    assert_eq!(modules.len(), manifest::MODULES.len(), "{modules:?}");
+    for path in modules {
+        let stem = path.file_stem().unwrap().to_string_lossy().into_owned();
+        let text = std::fs::read_to_string(&path).unwrap();
+        assert_eq!(
+            declared_import_path(&text),
+            Some(format!("volfog::{stem}").as_str()),
+            "{}",
+            path.display()
+        );
+        let listed = manifest::MODULES
+            .iter()
+            .find(|m| m.file == format!("shaders/volfog/{stem}.wgsl"))
+            .unwrap_or_else(|| panic!("{stem} is not in the manifest"));
+        assert_eq!(listed.source, text);
+    }
+    let passes = files("passes");
+    assert_eq!(passes.len(), manifest::PASSES.len());
+    for path in passes {
+        let stem = path.file_stem().unwrap().to_string_lossy().into_owned();
+        let listed = manifest::pass(&stem).unwrap_or_else(|| panic!("pass {stem} is not listed"));
+        assert_eq!(listed.source, std::fs::read_to_string(&path).unwrap());
+    }
+}
+
+#[test]
+fn unknown_defines_and_bad_values_are_rejected_with_the_valid_ones() {
+    use volfog_codegen::translate::compose_variant;
+    let err = compose_variant("scan", &["VOLFOG_NOPE".to_string()]).unwrap_err();
+    assert!(
+        err.to_string().contains("VOLFOG_SCAN_WRONSKI_STEP"),
+        "{err}"
+    );
+    let err = compose_variant("scan", &["VOLFOG_SCAN_WRONSKI_STEP=3".to_string()]).unwrap_err();
+    assert!(err.to_string().contains("takes no value"), "{err}");
+    let err = compose_variant("esm_blur", &["VOLFOG_ESM_BLUR_RADIUS=17".to_string()]).unwrap_err();
+    assert!(err.to_string().contains("out of range 1..=16"), "{err}");
+    let err = compose_variant("esm_blur", &["VOLFOG_ESM_BLUR_RADIUS".to_string()]).unwrap_err();
+    assert!(err.to_string().contains("needs a value"), "{err}");
+    let err = compose_variant("nope", &[]).unwrap_err();
+    assert!(err.to_string().contains("scan"), "{err}");
+}
+
+/// Mutually exclusive defines (an `Axis::OneOf`), on a pass built for the test: one
+/// is accepted, two are an error naming both, and the variants of the axis are the
+/// pass without the defines plus one per define.
+#[test]
+fn exclusive_defines_exclude_each_other() {
+    static AXES: &[Axis] = &[Axis::OneOf(&["VOLFOG_TEST_A", "VOLFOG_TEST_B"])];
+    let p = PassSource {
+        axes: AXES,
+        ..pass(
+            "@compute @workgroup_size(1)\nfn main() {\n#ifdef VOLFOG_TEST_A\n    let a = 1;\n#endif\n}\n",
+        )
+    };
+    assert!(Defines::parse(&p, &["VOLFOG_TEST_A".to_string()]).is_ok());
+    let err = Defines::parse(
+        &p,
+        &["VOLFOG_TEST_A".to_string(), "VOLFOG_TEST_B".to_string()],
+    )
+    .unwrap_err();
+    assert!(
+        err.to_string().contains("VOLFOG_TEST_A, VOLFOG_TEST_B")
+            && err.to_string().contains("exclude"),
+        "{err}"
+    );
+    let combos = manifest::expand_axes(AXES);
+    assert_eq!(
+        combos,
+        vec![vec![], vec!["VOLFOG_TEST_A"], vec!["VOLFOG_TEST_B"]]
+    );
+    let mut composer = composer().unwrap();
+    for combo in combos {
+        compose_pass(&mut composer, &p, &Defines::flags(combo)).unwrap();
+    }
+}

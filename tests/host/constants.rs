@@ -1,0 +1,220 @@
+//! Every WGSL constant that has a Rust twin, read from the composed naga modules, against
+//! that twin; and every compute pass's workgroup size against the constant the runtime
+//! dispatches with.
+
+use naga_oil::compose::{Composer, NagaModuleDescriptor};
+use volfog::cpu;
+use volfog::limits;
+use volfog_codegen::names::undecorate;
+
+/// A scalar constant of a naga module by its (undecorated) name, as f64.
+fn constant(module: &naga::Module, name: &str) -> Option<f64> {
+    module.constants.iter().find_map(|(_, c)| {
+        let n = c.name.as_deref()?;
+        let plain = undecorate(n).map_or(n.to_string(), |(item, _)| item);
+        if plain != name {
+            return None;
+        }
+        match module.global_expressions[c.init] {
+            naga::Expression::Literal(naga::Literal::F32(v)) => Some(f64::from(v)),
+            naga::Expression::Literal(naga::Literal::U32(v)) => Some(f64::from(v)),
+            naga::Expression::Literal(naga::Literal::I32(v)) => Some(f64::from(v)),
+            ref other => panic!("{name}: not a scalar literal: {other:?}"),
+        }
+    })
+}
+
+/// A module that imports `names` from the volfog module `path` and uses each of them.
+fn import(path: &str, names: &[&str]) -> naga::Module {
+    let uses: Vec<String> = names.iter().map(|n| format!("f32({n})")).collect();
+    let source = format!(
+        "#import {path}::{{{}}}\n@compute @workgroup_size(1) fn main() {{ let sink = {}; }}\n",
+        names.join(", "),
+        uses.join(" + ")
+    );
+    let mut composer = Composer::default();
+    volfog::shaders::add_to_composer(&mut composer).unwrap();
+    composer
+        .make_naga_module(NagaModuleDescriptor {
+            source: &source,
+            file_path: "constants.wgsl",
+            ..Default::default()
+        })
+        .unwrap_or_else(|e| panic!("{}", e.emit_to_string(&composer)))
+}
+
+#[test]
+fn module_constants_match_their_rust_twins() {
+    let twins: &[(&str, &[(&str, f64)])] = &[
+        (
+            "volfog::phase",
+            &[
+                ("PI", cpu::phase::PI as f64),
+                ("INV_4PI", cpu::phase::INV_4PI as f64),
+                ("SH_Y0", cpu::phase::SH_Y0 as f64),
+                ("SH_Y1", cpu::phase::SH_Y1 as f64),
+            ],
+        ),
+        (
+            "volfog::froxel",
+            &[("CURVE_LINEAR_LIMIT", cpu::froxel::CURVE_LINEAR_LIMIT as f64)],
+        ),
+        (
+            "volfog::height_fog",
+            &[
+                ("FOG_SERIES_LIMIT", cpu::height_fog::FOG_SERIES_LIMIT as f64),
+                (
+                    "FOG_EXPONENT_LIMIT",
+                    cpu::height_fog::FOG_EXPONENT_LIMIT as f64,
+                ),
+                ("FOG_DENSITY_LIMIT", limits::FOG_DENSITY_LIMIT as f64),
+                ("FOG_FALLOFF_LIMIT", limits::FOG_FALLOFF_LIMIT as f64),
+                ("FOG_POSITION_LIMIT", limits::FOG_POSITION_LIMIT as f64),
+                ("FOG_PEAK_LIMIT", cpu::height_fog::FOG_PEAK_LIMIT as f64),
+            ],
+        ),
+        (
+            "volfog::density",
+            &[(
+                "DENSITY_MAX_EXPONENT",
+                cpu::density::DENSITY_MAX_EXPONENT as f64,
+            )],
+        ),
+        (
+            "volfog::noise",
+            &[
+                ("NOISE_MAX_OCTAVES", cpu::noise::NOISE_MAX_OCTAVES as f64),
+                ("NOISE_MAX_OCTAVES", limits::NOISE_OCTAVES.max as f64),
+            ],
+        ),
+        (
+            "volfog::scan",
+            &[("SCAN_SERIES_LIMIT", cpu::scan::SCAN_SERIES_LIMIT as f64)],
+        ),
+        (
+            "volfog::soft_particles",
+            &[
+                (
+                    "SOFT_PARTICLE_MIN_THICKNESS",
+                    cpu::soft_particles::SOFT_PARTICLE_MIN_THICKNESS as f64,
+                ),
+                (
+                    "SOFT_PARTICLE_DEPTH_LIMIT",
+                    cpu::soft_particles::SOFT_PARTICLE_DEPTH_LIMIT as f64,
+                ),
+            ],
+        ),
+        (
+            "volfog::fog_volume",
+            &[
+                (
+                    "FOG_VOLUME_BOX",
+                    volfog::uniforms::VolumeShape::Box as u32 as f64,
+                ),
+                (
+                    "FOG_VOLUME_ELLIPSOID",
+                    volfog::uniforms::VolumeShape::Ellipsoid as u32 as f64,
+                ),
+                ("FOG_VOLUME_BOX", cpu::fog_volume::FOG_VOLUME_BOX as f64),
+                (
+                    "FOG_VOLUME_ELLIPSOID",
+                    cpu::fog_volume::FOG_VOLUME_ELLIPSOID as f64,
+                ),
+                (
+                    "FOG_VOLUME_MIN_DIRECTION",
+                    cpu::fog_volume::FOG_VOLUME_MIN_DIRECTION as f64,
+                ),
+            ],
+        ),
+        (
+            "volfog::lightning",
+            &[
+                (
+                    "LIGHTNING_POSITION_LIMIT",
+                    cpu::lightning::LIGHTNING_POSITION_LIMIT as f64,
+                ),
+                (
+                    "LIGHTNING_ATTENUATION_LIMIT",
+                    cpu::lightning::LIGHTNING_ATTENUATION_LIMIT as f64,
+                ),
+                (
+                    "LIGHTNING_INTENSITY_LIMIT",
+                    cpu::lightning::LIGHTNING_INTENSITY_LIMIT as f64,
+                ),
+                (
+                    "LIGHTNING_SERIES_LIMIT",
+                    cpu::lightning::LIGHTNING_SERIES_LIMIT as f64,
+                ),
+                ("LIGHTNING_PI", cpu::phase::PI as f64),
+            ],
+        ),
+        (
+            "volfog::hull",
+            &[("HULL_MIN_W", cpu::hull::HULL_MIN_W as f64)],
+        ),
+    ];
+    let mut checked = 0;
+    for (path, pairs) in twins {
+        let names: Vec<&str> = pairs
+            .iter()
+            .map(|(n, _)| *n)
+            .collect::<std::collections::BTreeSet<_>>()
+            .into_iter()
+            .collect();
+        let module = import(path, &names);
+        for (name, rust) in *pairs {
+            let wgsl =
+                constant(&module, name).unwrap_or_else(|| panic!("{path}::{name} not found"));
+            // f32 twins: equal after rounding to f32.
+            assert_eq!(
+                wgsl as f32, *rust as f32,
+                "{path}::{name}: WGSL {wgsl} vs Rust {rust}"
+            );
+            checked += 1;
+        }
+    }
+    eprintln!("{checked} WGSL constants equal their Rust twins");
+}
+
+#[test]
+fn pass_constants_and_workgroups_match_the_runtime() {
+    use volfog::pipeline::{esm, inject, scan, temporal};
+    let pass = |name: &str, defines: &[&str]| {
+        let defines: Vec<String> = defines.iter().map(|d| d.to_string()).collect();
+        volfog::shaders::compose(name, &defines).unwrap()
+    };
+    let inject_module = pass("inject", &[]);
+    assert_eq!(
+        constant(&inject_module, "TILE_LIGHTS"),
+        Some(limits::MAX_LIGHTS as f64)
+    );
+    assert_eq!(
+        constant(&inject_module, "HALF_MAX"),
+        Some(cpu::inject::HALF_MAX as f64)
+    );
+    let blur = pass("esm_blur", &[]);
+    assert_eq!(constant(&blur, "GROUP"), Some(esm::BLUR_GROUP as f64));
+    let workgroup = |m: &naga::Module, entry: &str| {
+        m.entry_points
+            .iter()
+            .find(|e| e.name == entry)
+            .unwrap()
+            .workgroup_size
+    };
+    let w = inject::WORKGROUP;
+    assert_eq!(workgroup(&inject_module, "inject"), [w, w, w]);
+    let w = temporal::WORKGROUP;
+    assert_eq!(workgroup(&pass("temporal", &[]), "temporal"), [w, w, w]);
+    assert_eq!(
+        workgroup(&pass("scan", &[]), "scan"),
+        [scan::WORKGROUP, scan::WORKGROUP, 1]
+    );
+    let w = esm::DOWNSAMPLE_WORKGROUP;
+    assert_eq!(
+        workgroup(&pass("esm_downsample", &[]), "esm_downsample"),
+        [w, w, 1]
+    );
+    for entry in ["esm_blur_x", "esm_blur_y"] {
+        assert_eq!(workgroup(&blur, entry), [esm::BLUR_GROUP, 1, 1], "{entry}");
+    }
+}

@@ -1,0 +1,257 @@
+//! Every encase struct in `volfog::uniforms` against naga's layout of its WGSL twin in
+//! `shaders/volfog/types.wgsl`: member names, order, offsets and sizes, and the struct
+//! size. Every WGSL struct in the types module must have a twin here.
+//!
+//! Rust offsets are measured, not read from encase's metadata: each member in turn is
+//! set to a marker value and the bytes that change in the serialised uniform give its
+//! offset and size.
+
+use std::collections::BTreeMap;
+
+use glam::{Mat4, UVec3, Vec2, Vec3, Vec4};
+use volfog::uniforms::{self, to_uniform_bytes};
+
+trait Marker {
+    fn marker() -> Self;
+}
+impl Marker for f32 {
+    fn marker() -> Self {
+        1234.5
+    }
+}
+impl Marker for u32 {
+    fn marker() -> Self {
+        0xDEAD_BEEF
+    }
+}
+impl Marker for i32 {
+    fn marker() -> Self {
+        -77_777
+    }
+}
+impl Marker for Vec2 {
+    fn marker() -> Self {
+        Vec2::new(101.0, 102.0)
+    }
+}
+impl Marker for Vec3 {
+    fn marker() -> Self {
+        Vec3::new(101.0, 102.0, 103.0)
+    }
+}
+impl Marker for Vec4 {
+    fn marker() -> Self {
+        Vec4::new(101.0, 102.0, 103.0, 104.0)
+    }
+}
+impl Marker for UVec3 {
+    fn marker() -> Self {
+        UVec3::new(0xA1, 0xA2, 0xA3)
+    }
+}
+impl Marker for [Mat4; 4] {
+    fn marker() -> Self {
+        std::array::from_fn(|k| {
+            Mat4::from_cols_array(&std::array::from_fn(|i| 200.0 + (16 * k + i) as f32))
+        })
+    }
+}
+impl Marker for uniforms::DirectionalLight {
+    fn marker() -> Self {
+        uniforms::DirectionalLight {
+            direction: Vec3::marker(),
+            fog_intensity: f32::marker(),
+            color: Vec3::marker(),
+            toward_tint: Vec3::marker(),
+            away_tint: Vec3::marker(),
+        }
+    }
+}
+impl Marker for Mat4 {
+    fn marker() -> Self {
+        Mat4::from_cols_array(&std::array::from_fn(|i| 100.0 + i as f32))
+    }
+}
+
+/// (member name, offset, size) measured from encase, and the struct size.
+type Measured = (Vec<(String, u32, u32)>, u32);
+
+macro_rules! measure {
+    ($ty:ident { $($field:ident : $fty:ty),* $(,)? }) => {{
+        let base = uniforms::$ty::default();
+        let base_bytes = to_uniform_bytes(&base);
+        let mut members = Vec::new();
+        $(
+            let mut probe = base;
+            probe.$field = <$fty as Marker>::marker();
+            let bytes = to_uniform_bytes(&probe);
+            let changed: Vec<usize> = (0..bytes.len()).filter(|&i| bytes[i] != base_bytes[i]).collect();
+            let first = (*changed.first().unwrap() / 4 * 4) as u32;
+            let last = (changed.last().unwrap() / 4 * 4 + 4) as u32;
+            // A nested struct's trailing padding is never written: take its own size.
+            let size = (last - first).max(<$fty as encase::ShaderType>::min_size().get() as u32);
+            members.push((stringify!($field).to_string(), first, size));
+        )*
+        (stringify!($ty), (members, base_bytes.len() as u32))
+    }};
+}
+
+fn rust_layouts() -> BTreeMap<&'static str, Measured> {
+    BTreeMap::from([
+        measure!(FogHull {
+            clip_from_world: Mat4,
+            view_from_clip: Mat4,
+            camera_position: Vec3,
+            reference: f32,
+            color: Vec3,
+            density: f32,
+            quantum: f32,
+        }),
+        measure!(HeightFog {
+            color: Vec3,
+            density: f32,
+            up: Vec3,
+            falloff: f32,
+            sun_direction: Vec3,
+            base_height: f32,
+            sun_color: Vec3,
+            sun_g: f32,
+        }),
+        measure!(FogVolume {
+            local_from_world: Mat4,
+            color: Vec3,
+            density: f32,
+            gradient: Vec3,
+            falloff: f32,
+            center: Vec3,
+            offset: f32,
+            shape: u32,
+        }),
+        measure!(FogFrame {
+            world_from_view: Mat4,
+            clip_from_world: Mat4,
+            camera_position: Vec3,
+            time: f32,
+            jitter: Vec3,
+            history_weight: f32,
+            index: u32,
+            history_enabled: u32,
+        }),
+        measure!(HistoryState {
+            clip_from_world: Mat4,
+            valid: u32,
+        }),
+        measure!(FogMedium {
+            albedo: Vec3,
+            density: f32,
+            up: Vec3,
+            height_falloff: f32,
+            wind: Vec3,
+            base_height: f32,
+            texture_scale: Vec3,
+            noise_strength: f32,
+            texture_offset: Vec3,
+            noise_scale: f32,
+            phase_g: f32,
+            local_volume_count: u32,
+        }),
+        measure!(LocalVolume {
+            local_from_world: Mat4,
+            density: f32,
+            edge: f32,
+            shape: u32,
+        }),
+        measure!(DirectionalLight {
+            direction: Vec3,
+            fog_intensity: f32,
+            color: Vec3,
+            toward_tint: Vec3,
+            away_tint: Vec3,
+        }),
+        measure!(FogLight {
+            position: Vec3,
+            range: f32,
+            color: Vec3,
+            fog_intensity: f32,
+            direction: Vec3,
+            radius: f32,
+            cos_outer: f32,
+            cos_inner: f32,
+        }),
+        measure!(FogLighting {
+            sun: uniforms::DirectionalLight,
+            ambient_r: Vec4,
+            ambient_g: Vec4,
+            ambient_b: Vec4,
+            light_count: u32,
+        }),
+        measure!(ShadowCascades {
+            light_from_world: [Mat4; 4],
+            splits: Vec4,
+            count: u32,
+            exponent: f32,
+        }),
+        measure!(Froxels {
+            clip_from_view: Mat4,
+            view_from_clip: Mat4,
+            size: UVec3,
+            near: f32,
+            far: f32,
+            curve: f32,
+        }),
+    ])
+}
+
+fn wgsl_layouts() -> BTreeMap<String, Measured> {
+    let types = volfog::shaders::MODULES
+        .iter()
+        .find(|m| m.import_path == "volfog::types")
+        .unwrap();
+    let source: String = types
+        .source
+        .lines()
+        .filter(|l| !l.trim_start().starts_with('#'))
+        .collect::<Vec<_>>()
+        .join("\n");
+    let module = naga::front::wgsl::parse_str(&source).expect("types.wgsl parses on its own");
+    let mut layouter = naga::proc::Layouter::default();
+    layouter.update(module.to_ctx()).unwrap();
+    let mut out = BTreeMap::new();
+    for (handle, ty) in module.types.iter() {
+        if let naga::TypeInner::Struct { members, span } = &ty.inner {
+            let measured = members
+                .iter()
+                .map(|m| (m.name.clone().unwrap(), m.offset, layouter[m.ty].size))
+                .collect();
+            let _ = handle;
+            out.insert(ty.name.clone().unwrap(), (measured, *span));
+        }
+    }
+    out
+}
+
+#[test]
+fn uniform_structs_match_wgsl_layouts() {
+    let rust = rust_layouts();
+    let wgsl = wgsl_layouts();
+    let missing: Vec<&String> = wgsl
+        .keys()
+        .filter(|k| !rust.contains_key(k.as_str()))
+        .collect();
+    assert!(
+        missing.is_empty(),
+        "WGSL structs without a checked Rust twin: {missing:?}"
+    );
+    for (name, (members, size)) in &rust {
+        let (want_members, want_size) = &wgsl[*name];
+        assert_eq!(
+            members, want_members,
+            "{name}: members (name, offset, size)"
+        );
+        assert_eq!(size, want_size, "{name}: size");
+        eprintln!(
+            "{name}: {} members, {size} bytes, layout matches naga",
+            members.len()
+        );
+    }
+}
