@@ -8,6 +8,7 @@ use clap::{Parser, Subcommand, ValueEnum};
 use volfog_cli::{bench, demo};
 use volfog_codegen::Target;
 use volfog_codegen::export::{ExportError, ExportRequest, export};
+use volfog_codegen::reflect::HlslSamplers;
 
 #[derive(Parser)]
 #[command(
@@ -30,6 +31,12 @@ enum TargetArg {
     All,
 }
 
+#[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
+enum HlslSamplersArg {
+    Classic,
+    Heap,
+}
+
 #[derive(Subcommand)]
 enum Command {
     /// Write shaders for the chosen targets and DIR/manifest.json.
@@ -46,6 +53,10 @@ enum Command {
         /// Export only these variants or passes (repeatable).
         #[arg(long)]
         variant: Vec<String>,
+        /// How HLSL binds samplers: `classic` registers (s0, s1, ... per space) or
+        /// naga's sampler `heap` (wgpu's Direct3D 12 layout).
+        #[arg(long, value_enum, default_value_t = HlslSamplersArg::Classic)]
+        hlsl_samplers: HlslSamplersArg,
     },
     /// Render the demo scene headless with the fog pipeline: PNG + per-pass GPU times.
     Demo(demo::DemoArgs),
@@ -81,12 +92,17 @@ fn main() -> ExitCode {
             out,
             define,
             variant,
+            hlsl_samplers,
         } => {
             let request = ExportRequest {
                 out: out.clone(),
                 targets: targets(&target),
                 variants: variant,
                 defines: define,
+                hlsl_samplers: match hlsl_samplers {
+                    HlslSamplersArg::Classic => HlslSamplers::Classic,
+                    HlslSamplersArg::Heap => HlslSamplers::Heap,
+                },
             };
             match export(&request) {
                 Ok(s) => {

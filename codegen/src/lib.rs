@@ -24,6 +24,8 @@ pub mod manifest;
 pub mod names;
 pub mod reflect;
 #[cfg(feature = "translate")]
+mod rewrite;
+#[cfg(feature = "translate")]
 pub mod translate;
 
 use std::fmt;

@@ -49,6 +49,105 @@ pub struct ValueDefine {
     pub default: u32,
 }
 
+/// One blend component in WebGPU's terms.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+pub struct BlendComponent {
+    /// `one`, `zero`, `src-alpha`, ...
+    pub src_factor: &'static str,
+    /// As `src_factor`.
+    pub dst_factor: &'static str,
+    /// `add`, ...
+    pub operation: &'static str,
+}
+
+/// A colour target's blend state.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+pub struct Blend {
+    /// Colour channels.
+    pub color: BlendComponent,
+    /// Alpha channel.
+    pub alpha: BlendComponent,
+}
+
+/// `dst * T + L` from a fragment output (L, T): the blend of every fog composite.
+pub const FOG_BLEND: Blend = Blend {
+    color: BlendComponent {
+        src_factor: "one",
+        dst_factor: "src-alpha",
+        operation: "add",
+    },
+    alpha: BlendComponent {
+        src_factor: "zero",
+        dst_factor: "one",
+        operation: "add",
+    },
+};
+
+/// One vertex attribute.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+pub struct VertexAttribute {
+    /// `@location`.
+    pub shader_location: u32,
+    /// WebGPU vertex format, e.g. `float32x3`.
+    pub format: &'static str,
+    /// Byte offset in the vertex.
+    pub offset: u32,
+}
+
+/// One vertex buffer.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+pub struct VertexBuffer {
+    /// Bytes per vertex.
+    pub array_stride: u32,
+    /// `vertex` or `instance`.
+    pub step_mode: &'static str,
+    /// Its attributes.
+    pub attributes: &'static [VertexAttribute],
+}
+
+/// The render pipeline state of a pass that draws.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct RenderState {
+    /// The vertex shader of the pass's fragment entry points, (pass, entry point), when
+    /// it comes from another pass; `None` when the pass has its own vertex entry point.
+    pub vertex: Option<(&'static str, &'static str)>,
+    /// Colour target formats the pass draws into (WebGPU names); the first is the
+    /// default.
+    pub formats: &'static [&'static str],
+    /// The colour target's blend.
+    pub blend: Option<Blend>,
+    /// Vertex buffers of the pass's own vertex entry point.
+    pub vertex_buffers: &'static [VertexBuffer],
+    /// `triangle-list`, ...
+    pub topology: &'static str,
+    /// `ccw` or `cw`.
+    pub front_face: &'static str,
+    /// `none`, `front` or `back`.
+    pub cull_mode: &'static str,
+}
+
+/// Colour formats WebGPU can blend into without optional features.
+pub const BLENDABLE_FORMATS: &[&str] = &[
+    "rgba16float",
+    "rgba8unorm",
+    "rgba8unorm-srgb",
+    "bgra8unorm",
+    "bgra8unorm-srgb",
+    "rgb10a2unorm",
+];
+
+/// A fullscreen fog composite: the fullscreen vertex shader, any blendable colour
+/// target, [`FOG_BLEND`].
+const FULLSCREEN_COMPOSITE: RenderState = RenderState {
+    vertex: Some(("fullscreen", "fullscreen_vs")),
+    formats: BLENDABLE_FORMATS,
+    blend: Some(FOG_BLEND),
+    vertex_buffers: &[],
+    topology: "triangle-list",
+    front_face: "ccw",
+    cull_mode: "none",
+};
+
 /// A pass: one WGSL file of entry points plus its bindings.
 #[derive(Debug, Clone, Copy)]
 pub struct PassSource {
@@ -64,6 +163,11 @@ pub struct PassSource {
     pub values: &'static [ValueDefine],
     /// How to run the pass (dispatch or draw, pipeline state), for the binding manifest.
     pub usage: &'static str,
+    /// Samplers (by WGSL name) the pass binds as non-filtering; every other sampler is
+    /// filtering.
+    pub non_filtering_samplers: &'static [&'static str],
+    /// The draw's pipeline state for a pass with vertex or fragment entry points.
+    pub render: Option<RenderState>,
 }
 
 macro_rules! module {
@@ -77,7 +181,7 @@ macro_rules! module {
 }
 
 macro_rules! pass {
-    ($stem:literal, axes: $axes:expr, values: $values:expr, usage: $usage:expr) => {
+    ($stem:literal, axes: $axes:expr, values: $values:expr, usage: $usage:expr $(, non_filtering: $nf:expr)? $(, render: $render:expr)?) => {
         PassSource {
             name: $stem,
             file: concat!("shaders/passes/", $stem, ".wgsl"),
@@ -85,8 +189,12 @@ macro_rules! pass {
             axes: $axes,
             values: $values,
             usage: $usage,
+            non_filtering_samplers: pass!(@or $($nf)?; &[]),
+            render: pass!(@or $(Some($render))?; None),
         }
     };
+    (@or $value:expr; $default:expr) => { $value };
+    (@or ; $default:expr) => { $default };
 }
 
 /// Radius of the ESM box blur in texels (taps = 2 radius + 1).
@@ -139,7 +247,8 @@ pub const PASSES: &[PassSource] = &[
         axes: &[],
         values: &[],
         usage: "The vertex shader of the fullscreen passes (apply, hull_composite): draw 3 \
-                vertices without vertex buffers; it writes only the position."
+                vertices without vertex buffers; it writes only the position.",
+        render: RenderState { vertex: None, formats: &[], blend: None, ..FULLSCREEN_COMPOSITE }
     ),
     pass!(
         "apply",
@@ -150,7 +259,8 @@ pub const PASSES: &[PassSource] = &[
                 dst * SrcAlpha (add); alpha: src * Zero + dst * One (add). Group 0 is the fog \
                 group; its sampler (binding 2, absent in BINDINGS_NO_SAMPLER) is linear with \
                 clamp-to-edge addressing. Group 1 binding 0 is the scene depth buffer, bound \
-                as unfilterable float."
+                as unfilterable float.",
+        render: FULLSCREEN_COMPOSITE
     ),
     pass!(
         "esm_downsample",
@@ -158,7 +268,8 @@ pub const PASSES: &[PassSource] = &[
         values: &[],
         usage: "Dispatch ceil(esm_width / 8) x ceil(esm_height / 8) x cascades workgroups; \
                 the shadow map is 4x the ESM size, one array layer per cascade. The sampler \
-                (binding 2) is non-filtering with clamp-to-edge addressing."
+                (binding 2) is non-filtering with clamp-to-edge addressing.",
+        non_filtering: &["gather_sampler"]
     ),
     pass!(
         "esm_blur",
@@ -206,7 +317,23 @@ pub const PASSES: &[PassSource] = &[
                 FogHull.reference and quantum set from the hull's bounds) or Rgba32Float \
                 where FLOAT32_BLENDABLE is available (quantum 0). Blend colour and alpha: \
                 src * One + dst * One (add). Binding 1 is the scene depth buffer, bound as \
-                unfilterable float."
+                unfilterable float.",
+        render: RenderState {
+            vertex: None,
+            formats: &["rgba16float", "rgba32float"],
+            blend: Some(Blend {
+                color: BlendComponent { src_factor: "one", dst_factor: "one", operation: "add" },
+                alpha: BlendComponent { src_factor: "one", dst_factor: "one", operation: "add" },
+            }),
+            vertex_buffers: &[VertexBuffer {
+                array_stride: 12,
+                step_mode: "vertex",
+                attributes: &[VertexAttribute { shader_location: 0, format: "float32x3", offset: 0 }],
+            }],
+            topology: "triangle-list",
+            front_face: "ccw",
+            cull_mode: "none",
+        }
     ),
     pass!(
         "hull_composite",
@@ -215,7 +342,8 @@ pub const PASSES: &[PassSource] = &[
         usage: "After hull_thickness, draw 3 vertices with fullscreen_vs (pass fullscreen), \
                 no vertex buffers, onto the lit colour target (load, no depth attachment). Blend colour: src * One + dst * \
                 SrcAlpha (add); alpha: src * Zero + dst * One (add). Binding 1 is the \
-                hull_thickness target, bound as unfilterable float."
+                hull_thickness target, bound as unfilterable float.",
+        render: FULLSCREEN_COMPOSITE
     ),
 ];
 

@@ -6,8 +6,9 @@
 //! - SPIR-V: `DescriptorSet` = WGSL group, `Binding` = WGSL binding.
 //! - HLSL: `space` = group; per group and register class, registers count up in
 //!   binding order: `b` uniform buffers, `t` sampled textures and read-only storage
-//!   buffers, `u` storage textures and read-write storage buffers. Samplers live in
-//!   naga's sampler heap (`nagaSamplerHeap`, `s0` in `space0`; comparison samplers
+//!   buffers, `u` storage textures and read-write storage buffers, `s` samplers. With
+//!   [`HlslSamplers::Heap`] samplers live in naga's sampler heap instead
+//!   (`nagaSamplerHeap`, `s0` in `space0`; comparison samplers
 //!   `nagaComparisonSamplerHeap`, `s0` in `space1`) and are found through a per-group
 //!   `StructuredBuffer<uint>` of heap indices (`nagaGroup<N>SamplerIndexArray`) at the
 //!   next free `t` register of the group's space.
@@ -30,9 +31,13 @@ pub struct EntryReflection {
     pub workgroup_size: Option<[u32; 3]>,
     /// Every resource the entry point uses, in (group, binding) order.
     pub bindings: Vec<Binding>,
-    /// HLSL sampler index buffers, one per group that has samplers.
+    /// HLSL sampler index buffers, one per group that has samplers (only when the
+    /// samplers are read from naga's sampler heap).
     #[serde(skip_serializing_if = "Vec::is_empty", default)]
     pub hlsl_sampler_index_buffers: Vec<HlslSamplerIndexBuffer>,
+    /// MSL: the buffer naga adds for the byte sizes of runtime-sized storage arrays.
+    #[serde(skip_serializing_if = "Option::is_none", default)]
+    pub msl_buffer_sizes: Option<MslBufferSizes>,
     /// Layout of every struct reachable from a uniform or storage buffer.
     pub structs: Vec<StructLayout>,
 }
@@ -58,34 +63,33 @@ pub struct Binding {
     pub msl: MslSlot,
 }
 
-/// The kind of a bound resource.
+/// What a binding holds, in WebGPU's terms (`GPUBindGroupLayoutEntry`), so a layout
+/// can be built from it directly.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(tag = "kind", rename_all = "snake_case")]
 pub enum Resource {
-    /// A uniform buffer holding one value of type `ty`.
-    UniformBuffer {
-        /// WGSL type name.
+    /// A buffer.
+    Buffer {
+        /// `uniform`, `storage` or `read-only-storage`.
+        #[serde(rename = "type")]
         ty: String,
-        /// Size in bytes.
-        size: u32,
-    },
-    /// A storage buffer.
-    StorageBuffer {
-        /// WGSL type name.
-        ty: String,
-        /// Size in bytes (of the fixed part; arrays of runtime size add `stride` per element).
+        /// The WGSL type it holds (a struct name, or `array<T>`).
+        #[serde(rename = "struct")]
+        struct_name: String,
+        /// Minimum binding size in bytes (for a runtime-sized array: its fixed part,
+        /// plus `stride` per element).
         size: u32,
         /// Element stride of a runtime-sized array, if any.
         #[serde(skip_serializing_if = "Option::is_none", default)]
         stride: Option<u32>,
-        /// `read` or `read_write`.
-        access: String,
     },
     /// A sampled texture.
     Texture {
-        /// `1d`, `2d`, `2d_array`, `cube`, `cube_array` or `3d`.
-        dimension: String,
-        /// `float` (filterable), `depth`, `sint` or `uint`.
+        /// `1d`, `2d`, `2d-array`, `cube`, `cube-array` or `3d`.
+        view_dimension: String,
+        /// `float` (read through a filtering sampler), `unfilterable-float` (loaded, or
+        /// read through a non-filtering sampler: depth formats bind here too),
+        /// `depth`, `sint` or `uint`.
         sample_type: String,
         /// Multisampled.
         multisampled: bool,
@@ -93,17 +97,25 @@ pub enum Resource {
     /// A storage texture.
     StorageTexture {
         /// As for textures.
-        dimension: String,
+        view_dimension: String,
         /// Texel format in WebGPU spelling, e.g. `rgba16float`.
         format: String,
-        /// `read`, `write` or `read_write`.
+        /// `write-only`, `read-only` or `read-write`.
         access: String,
     },
     /// A sampler.
     Sampler {
-        /// A comparison sampler.
-        comparison: bool,
+        /// `filtering`, `non-filtering` or `comparison`.
+        #[serde(rename = "type")]
+        ty: String,
     },
+}
+
+impl Resource {
+    /// Whether this is a sampler.
+    pub fn is_sampler(&self) -> bool {
+        matches!(self, Resource::Sampler { .. })
+    }
 }
 
 /// SPIR-V slot.
@@ -118,12 +130,17 @@ pub struct SpirvSlot {
 /// HLSL slot.
 #[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
 pub struct HlslSlot {
-    /// Register, e.g. `b0`, `t1`, `u0`; `heap` for samplers (see the sampler index buffer).
+    /// Register, e.g. `b0`, `t1`, `u0`, `s0` (with classic samplers); `heap` for
+    /// samplers read from naga's sampler heap (see the sampler index buffer).
     pub register: String,
     /// Register space.
     pub space: u32,
-    /// For samplers: the element of the group's sampler index buffer that holds this
-    /// sampler's index in the sampler heap.
+    /// The declaration's HLSL type, e.g. `cbuffer`, `Texture3D<float4>`,
+    /// `ByteAddressBuffer`, `RWTexture2DArray<float>`, `SamplerState`.
+    #[serde(rename = "type", default)]
+    pub ty: String,
+    /// For samplers read from the heap: the element of the group's sampler index
+    /// buffer that holds this sampler's index in the heap.
     #[serde(skip_serializing_if = "Option::is_none", default)]
     pub sampler_index: Option<u32>,
 }
@@ -148,6 +165,10 @@ pub struct GlslSlot {
     /// `_group_G_binding_B_<stage>` where the WGSL name is reserved in GLSL.
     #[serde(default)]
     pub name: String,
+    /// For uniform and shader storage blocks: the block name, the same in every
+    /// stage, as `glGetUniformBlockIndex` / `glGetProgramResourceIndex` look it up.
+    #[serde(skip_serializing_if = "Option::is_none", default)]
+    pub block: Option<String>,
     /// `layout(binding = N)`.
     pub binding: u32,
     /// `uniform_block`, `texture_unit`, `image_unit` or `shader_storage_block`.
@@ -161,6 +182,30 @@ pub struct MslSlot {
     pub kind: String,
     /// Argument index.
     pub index: u32,
+}
+
+/// The `_mslBufferSizes` argument of an MSL entry point: a struct of `uint`s, one per
+/// binding that holds a runtime-sized array, in this order, each the byte size of the
+/// buffer range bound there.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+pub struct MslBufferSizes {
+    /// Its `[[buffer(N)]]` index.
+    pub index: u32,
+    /// The bindings whose sizes it holds, in member order.
+    pub members: Vec<MslBufferSize>,
+}
+
+/// One member of [`MslBufferSizes`].
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+pub struct MslBufferSize {
+    /// The member's name in the MSL struct.
+    pub member: String,
+    /// The binding's WGSL name.
+    pub binding_name: String,
+    /// Its group.
+    pub group: u32,
+    /// Its binding.
+    pub binding: u32,
 }
 
 /// Memory layout of a struct (WGSL rules, as naga lays it out).
@@ -193,10 +238,10 @@ pub struct MemberLayout {
 pub fn type_name(module: &naga::Module, ty: naga::Handle<naga::Type>) -> String {
     use naga::TypeInner as T;
     let t = &module.types[ty];
-    if let Some(name) = &t.name {
-        if matches!(t.inner, T::Struct { .. }) {
-            return name.clone();
-        }
+    if let Some(name) = &t.name
+        && matches!(t.inner, T::Struct { .. })
+    {
+        return name.clone();
     }
     match &t.inner {
         T::Scalar(s) => scalar_name(*s).to_string(),
@@ -240,7 +285,7 @@ fn dimension_name(dim: naga::ImageDimension, arrayed: bool) -> String {
         naga::ImageDimension::Cube => "cube",
     };
     if arrayed {
-        format!("{base}_array")
+        format!("{base}-array")
     } else {
         base.to_string()
     }
@@ -255,25 +300,38 @@ fn access_name(access: naga::StorageAccess) -> &'static str {
     let load = access.contains(naga::StorageAccess::LOAD);
     let store = access.contains(naga::StorageAccess::STORE);
     match (load, store) {
-        (true, true) => "read_write",
-        (false, true) => "write",
-        _ => "read",
+        (true, true) => "read-write",
+        (false, true) => "write-only",
+        _ => "read-only",
     }
+}
+
+/// How the pass uses its samplers and the textures they read: from the pass's
+/// declaration of its non-filtering samplers and the entry point's (texture, sampler)
+/// pairs.
+struct Sampling<'a> {
+    non_filtering: &'a [&'a str],
+    /// Textures read through a filtering sampler.
+    filtered: Vec<naga::Handle<naga::GlobalVariable>>,
 }
 
 /// Classifies a global variable with a binding; `None` for globals without one.
 fn resource_of(
     module: &naga::Module,
     layouter: &naga::proc::Layouter,
-    var: &naga::GlobalVariable,
+    handle: naga::Handle<naga::GlobalVariable>,
+    sampling: &Sampling<'_>,
 ) -> Option<Resource> {
     use naga::TypeInner as T;
+    let var = &module.global_variables[handle];
     var.binding.as_ref()?;
     let inner = &module.types[var.ty].inner;
     Some(match (var.space, inner) {
-        (naga::AddressSpace::Uniform, _) => Resource::UniformBuffer {
-            ty: type_name(module, var.ty),
+        (naga::AddressSpace::Uniform, _) => Resource::Buffer {
+            ty: "uniform".to_string(),
+            struct_name: type_name(module, var.ty),
             size: layouter[var.ty].size,
+            stride: None,
         },
         (naga::AddressSpace::Storage { access }, _) => {
             let stride = match inner {
@@ -296,11 +354,17 @@ fn resource_of(
                 } => Some(*stride),
                 _ => None,
             };
-            Resource::StorageBuffer {
-                ty: type_name(module, var.ty),
+            let read_only = !access.contains(naga::StorageAccess::STORE);
+            Resource::Buffer {
+                ty: if read_only {
+                    "read-only-storage"
+                } else {
+                    "storage"
+                }
+                .to_string(),
+                struct_name: type_name(module, var.ty),
                 size: layouter[var.ty].size,
                 stride,
-                access: access_name(access).to_string(),
             }
         }
         (
@@ -312,54 +376,66 @@ fn resource_of(
             },
         ) => match class {
             naga::ImageClass::Storage { format, access } => Resource::StorageTexture {
-                dimension: dimension_name(*dim, *arrayed),
+                view_dimension: dimension_name(*dim, *arrayed),
                 format: format_name(*format),
                 access: access_name(*access).to_string(),
             },
             naga::ImageClass::Sampled { kind, multi } => Resource::Texture {
-                dimension: dimension_name(*dim, *arrayed),
+                view_dimension: dimension_name(*dim, *arrayed),
                 sample_type: match kind {
                     naga::ScalarKind::Sint => "sint",
                     naga::ScalarKind::Uint => "uint",
-                    _ => "float",
+                    _ if sampling.filtered.contains(&handle) => "float",
+                    _ => "unfilterable-float",
                 }
                 .to_string(),
                 multisampled: *multi,
             },
             naga::ImageClass::Depth { multi } => Resource::Texture {
-                dimension: dimension_name(*dim, *arrayed),
+                view_dimension: dimension_name(*dim, *arrayed),
                 sample_type: "depth".to_string(),
                 multisampled: *multi,
             },
             naga::ImageClass::External => Resource::Texture {
-                dimension: "external".to_string(),
+                view_dimension: "external".to_string(),
                 sample_type: "float".to_string(),
                 multisampled: false,
             },
         },
         (_, T::Sampler { comparison }) => Resource::Sampler {
-            comparison: *comparison,
+            ty: if *comparison {
+                "comparison"
+            } else if var
+                .name
+                .as_deref()
+                .is_some_and(|n| sampling.non_filtering.contains(&n))
+            {
+                "non-filtering"
+            } else {
+                "filtering"
+            }
+            .to_string(),
         },
         _ => return None,
     })
 }
 
 /// HLSL register class of a resource.
-fn hlsl_class(resource: &Resource) -> Option<char> {
+fn hlsl_class(resource: &Resource) -> char {
     match resource {
-        Resource::UniformBuffer { .. } => Some('b'),
-        Resource::StorageBuffer { access, .. } if access == "read" => Some('t'),
-        Resource::StorageBuffer { .. } => Some('u'),
-        Resource::Texture { .. } => Some('t'),
-        Resource::StorageTexture { .. } => Some('u'),
-        Resource::Sampler { .. } => None,
+        Resource::Buffer { ty, .. } if ty == "uniform" => 'b',
+        Resource::Buffer { ty, .. } if ty == "read-only-storage" => 't',
+        Resource::Buffer { .. } => 'u',
+        Resource::Texture { .. } => 't',
+        Resource::StorageTexture { .. } => 'u',
+        Resource::Sampler { .. } => 's',
     }
 }
 
 fn glsl_namespace(resource: &Resource) -> Option<&'static str> {
     match resource {
-        Resource::UniformBuffer { .. } => Some("uniform_block"),
-        Resource::StorageBuffer { .. } => Some("shader_storage_block"),
+        Resource::Buffer { ty, .. } if ty == "uniform" => Some("uniform_block"),
+        Resource::Buffer { .. } => Some("shader_storage_block"),
         Resource::Texture { .. } => Some("texture_unit"),
         Resource::StorageTexture { .. } => Some("image_unit"),
         Resource::Sampler { .. } => None,
@@ -368,7 +444,7 @@ fn glsl_namespace(resource: &Resource) -> Option<&'static str> {
 
 fn msl_kind(resource: &Resource) -> &'static str {
     match resource {
-        Resource::UniformBuffer { .. } | Resource::StorageBuffer { .. } => "buffer",
+        Resource::Buffer { .. } => "buffer",
         Resource::Texture { .. } | Resource::StorageTexture { .. } => "texture",
         Resource::Sampler { .. } => "sampler",
     }
@@ -410,12 +486,29 @@ fn collect_structs(
     }
 }
 
+/// How HLSL exports bind samplers.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum HlslSamplers {
+    /// `SamplerState name : register(sN, spaceG)`, numbered per group in binding order
+    /// (Direct3D 11 style; what most engines bind).
+    #[default]
+    Classic,
+    /// naga's sampler heap: samplers are read from `nagaSamplerHeap` through a
+    /// per-group `StructuredBuffer<uint>` of heap indices (wgpu's Direct3D 12 layout;
+    /// needs resource binding tier 2).
+    Heap,
+}
+
 /// Reflects the bindings used by entry point `entry_index` of a validated module and
-/// assigns their slots in every target.
+/// assigns their slots in every target. `non_filtering` names the pass's samplers that
+/// are bound as non-filtering; `samplers` chooses the HLSL sampler binding.
 pub fn reflect_entry(
     module: &naga::Module,
     info: &naga::valid::ModuleInfo,
     entry_index: usize,
+    non_filtering: &[&str],
+    samplers: HlslSamplers,
 ) -> EntryReflection {
     let mut layouter = naga::proc::Layouter::default();
     layouter
@@ -423,6 +516,27 @@ pub fn reflect_entry(
         .expect("a validated module has a layout");
     let ep = &module.entry_points[entry_index];
     let ep_info = info.get_entry_point(entry_index);
+    let filtering_sampler = |h: naga::Handle<naga::GlobalVariable>| {
+        let var = &module.global_variables[h];
+        let comparison = matches!(
+            module.types[var.ty].inner,
+            naga::TypeInner::Sampler { comparison: true }
+        );
+        !comparison
+            && !var
+                .name
+                .as_deref()
+                .is_some_and(|n| non_filtering.contains(&n))
+    };
+    let sampling = Sampling {
+        non_filtering,
+        filtered: ep_info
+            .sampling_set
+            .iter()
+            .filter(|k| filtering_sampler(k.sampler))
+            .map(|k| k.image)
+            .collect(),
+    };
 
     let mut used: Vec<(
         naga::ResourceBinding,
@@ -434,8 +548,10 @@ pub fn reflect_entry(
         if ep_info[handle].is_empty() {
             continue;
         }
-        let (Some(binding), Some(resource)) = (var.binding, resource_of(module, &layouter, var))
-        else {
+        let (Some(binding), Some(resource)) = (
+            var.binding,
+            resource_of(module, &layouter, handle, &sampling),
+        ) else {
             continue;
         };
         used.push((
@@ -453,32 +569,29 @@ pub fn reflect_entry(
     let mut bindings = Vec::new();
     let mut structs = Vec::new();
     for (rb, name, resource, handle) in used {
-        let hlsl = match hlsl_class(&resource) {
-            Some(class) => {
-                let n = hlsl_next.entry((rb.group, class)).or_default();
-                let slot = HlslSlot {
-                    register: format!("{class}{n}"),
-                    space: rb.group,
-                    sampler_index: None,
-                };
-                *n += 1;
-                slot
+        let class = hlsl_class(&resource);
+        let n = hlsl_next.entry((rb.group, class)).or_default();
+        let hlsl = if class == 's' && samplers == HlslSamplers::Heap {
+            HlslSlot {
+                register: "heap".to_string(),
+                space: rb.group,
+                ty: String::new(),
+                sampler_index: Some(*n),
             }
-            None => {
-                let n = hlsl_next.entry((rb.group, 's')).or_default();
-                let slot = HlslSlot {
-                    register: "heap".to_string(),
-                    space: rb.group,
-                    sampler_index: Some(*n),
-                };
-                *n += 1;
-                slot
+        } else {
+            HlslSlot {
+                register: format!("{class}{n}"),
+                space: rb.group,
+                ty: String::new(),
+                sampler_index: None,
             }
         };
+        *n += 1;
         let glsl = glsl_namespace(&resource).map(|ns| {
             let n = glsl_next.entry(ns).or_default();
             let slot = GlslSlot {
                 name: String::new(),
+                block: None,
                 binding: *n,
                 namespace: ns.to_string(),
             };
@@ -492,10 +605,7 @@ pub fn reflect_entry(
             index: *n,
         };
         *n += 1;
-        if matches!(
-            resource,
-            Resource::UniformBuffer { .. } | Resource::StorageBuffer { .. }
-        ) {
+        if matches!(resource, Resource::Buffer { .. }) {
             collect_structs(
                 module,
                 &layouter,
@@ -518,31 +628,36 @@ pub fn reflect_entry(
         });
     }
 
-    let mut sampler_groups: Vec<u32> = bindings
-        .iter()
-        .filter(|b| matches!(b.resource, Resource::Sampler { .. }))
-        .map(|b| b.group)
-        .collect();
-    sampler_groups.dedup();
-    let hlsl_sampler_index_buffers = sampler_groups
-        .into_iter()
-        .map(|group| {
-            let n = hlsl_next.entry((group, 't')).or_default();
-            let buffer = HlslSamplerIndexBuffer {
-                group,
-                name: format!("nagaGroup{group}SamplerIndexArray"),
-                register: format!("t{n}"),
-                space: group,
-            };
-            *n += 1;
-            buffer
-        })
-        .collect();
+    let hlsl_sampler_index_buffers = if samplers == HlslSamplers::Heap {
+        let mut sampler_groups: Vec<u32> = bindings
+            .iter()
+            .filter(|b| b.resource.is_sampler())
+            .map(|b| b.group)
+            .collect();
+        sampler_groups.dedup();
+        sampler_groups
+            .into_iter()
+            .map(|group| {
+                let n = hlsl_next.entry((group, 't')).or_default();
+                let buffer = HlslSamplerIndexBuffer {
+                    group,
+                    name: format!("nagaGroup{group}SamplerIndexArray"),
+                    register: format!("t{n}"),
+                    space: group,
+                };
+                *n += 1;
+                buffer
+            })
+            .collect()
+    } else {
+        Vec::new()
+    };
 
     EntryReflection {
         workgroup_size: (ep.stage == naga::ShaderStage::Compute).then_some(ep.workgroup_size),
         bindings,
         hlsl_sampler_index_buffers,
+        msl_buffer_sizes: None,
         structs,
     }
 }

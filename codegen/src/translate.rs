@@ -7,8 +7,17 @@ use naga::valid::ModuleInfo;
 
 use crate::compose::{Defines, validate, with_shared_composer};
 use crate::manifest::{PASSES, PassSource, Variant};
-use crate::reflect::{EntryReflection, Resource, reflect_entry};
-use crate::{CodegenError, Stage, Target, names};
+use crate::reflect::{EntryReflection, HlslSamplers, Resource, reflect_entry};
+use crate::{CodegenError, Stage, Target, names, rewrite};
+
+/// Choices of a translation.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct TranslateOptions<'a> {
+    /// How HLSL binds samplers.
+    pub hlsl_samplers: HlslSamplers,
+    /// Samplers of the pass that are bound as non-filtering (by WGSL name).
+    pub non_filtering_samplers: &'a [&'a str],
+}
 
 /// The module restricted to one entry point and compacted, so that each exported
 /// file holds exactly what that entry point uses.
@@ -24,6 +33,7 @@ fn single_entry(module: &naga::Module, index: usize) -> naga::Module {
 pub fn translate(
     variant: &str,
     mut module: naga::Module,
+    options: &TranslateOptions<'_>,
 ) -> Result<Vec<EntryOutput>, CodegenError> {
     names::make_readable(&mut module, variant)?;
     let info = validate(&module, variant)?;
@@ -48,7 +58,13 @@ pub fn translate(
             message: format!("unsupported stage {:?}", ep.stage),
         })?;
         let info = validate(&m, &format!("{variant} entry point {entry}"))?;
-        let mut reflection = reflect_entry(&m, &info, 0);
+        let mut reflection = reflect_entry(
+            &m,
+            &info,
+            0,
+            options.non_filtering_samplers,
+            options.hlsl_samplers,
+        );
         let backend_err = |target: Target, message: String| CodegenError::Backend {
             target,
             variant: variant.to_string(),
@@ -63,7 +79,12 @@ pub fn translate(
             .map_err(|e| backend_err(Target::Glsl, e))?;
         let hlsl = write_hlsl(&m, &info, &reflection, stage, &entry)
             .map_err(|e| backend_err(Target::Hlsl, e))?;
-        let msl = write_msl(&m, &info, &reflection, stage, &entry)
+        let hlsl = rewrite::hlsl(
+            hlsl,
+            &mut reflection,
+            options.hlsl_samplers == HlslSamplers::Classic,
+        );
+        let msl = write_msl(&m, &info, &mut reflection, stage, &entry)
             .map_err(|e| backend_err(Target::Msl, e))?;
         out.push(EntryOutput {
             entry,
@@ -142,10 +163,15 @@ pub fn generate(
     composer: &mut naga_oil::compose::Composer,
     pass: &PassSource,
     defines: &Defines,
+    hlsl_samplers: HlslSamplers,
 ) -> Result<VariantOutput, CodegenError> {
     let name = defines.variant_name(pass.name);
     let module = crate::compose::compose_pass(composer, pass, defines)?;
-    let entries = translate(&name, module)?;
+    let options = TranslateOptions {
+        hlsl_samplers,
+        non_filtering_samplers: pass.non_filtering_samplers,
+    };
+    let entries = translate(&name, module, &options)?;
     Ok(VariantOutput {
         name,
         pass: pass.name.to_string(),
@@ -155,9 +181,12 @@ pub fn generate(
 }
 
 /// Composes and translates a variant of the manifest with the shared composer.
-pub fn generate_variant(variant: &Variant) -> Result<VariantOutput, CodegenError> {
+pub fn generate_variant(
+    variant: &Variant,
+    hlsl_samplers: HlslSamplers,
+) -> Result<VariantOutput, CodegenError> {
     let defines = Defines::flags(variant.defines.iter().copied());
-    with_shared_composer(|composer| generate(composer, variant.pass, &defines))
+    with_shared_composer(|composer| generate(composer, variant.pass, &defines, hlsl_samplers))
 }
 
 /// Composes a pass under a custom define set (`NAME` or `NAME=VALUE` items) and
@@ -165,12 +194,19 @@ pub fn generate_variant(variant: &Variant) -> Result<VariantOutput, CodegenError
 /// exclusive defines set together are errors that list what is valid.
 ///
 /// ```
-/// let scan = volfog_codegen::translate::compose_variant("scan", &[]).unwrap();
+/// use volfog_codegen::reflect::HlslSamplers;
+/// use volfog_codegen::translate::compose_variant;
+///
+/// let scan = compose_variant("scan", &[], HlslSamplers::Classic).unwrap();
 /// assert_eq!(scan.name, "scan@default");
 /// assert!(scan.entries[0].hlsl.contains("RWTexture3D"));
-/// assert!(volfog_codegen::translate::compose_variant("scan", &["VOLFOG_NOPE".into()]).is_err());
+/// assert!(compose_variant("scan", &["VOLFOG_NOPE".into()], HlslSamplers::Classic).is_err());
 /// ```
-pub fn compose_variant(pass_name: &str, defines: &[String]) -> Result<VariantOutput, CodegenError> {
+pub fn compose_variant(
+    pass_name: &str,
+    defines: &[String],
+    hlsl_samplers: HlslSamplers,
+) -> Result<VariantOutput, CodegenError> {
     let pass = crate::manifest::pass(pass_name).ok_or_else(|| {
         CodegenError::Define(format!(
             "unknown pass {pass_name}; passes: {}",
@@ -178,7 +214,7 @@ pub fn compose_variant(pass_name: &str, defines: &[String]) -> Result<VariantOut
         ))
     })?;
     let defines = Defines::parse(pass, defines)?;
-    with_shared_composer(|composer| generate(composer, pass, &defines))
+    with_shared_composer(|composer| generate(composer, pass, &defines, hlsl_samplers))
 }
 
 fn resource_binding(group: u32, binding: u32) -> naga::ResourceBinding {
@@ -225,100 +261,6 @@ fn write_spirv(
     spv::write_vec(module, info, &options, Some(&pipeline)).map_err(|e| e.to_string())
 }
 
-/// Identifiers that a WGSL binding may legally use but GLSL reserves.
-const GLSL_RESERVED: &[&str] = &[
-    "active",
-    "attribute",
-    "buffer",
-    "centroid",
-    "coherent",
-    "common",
-    "filter",
-    "flat",
-    "image",
-    "in",
-    "inout",
-    "input",
-    "invariant",
-    "layout",
-    "main",
-    "noperspective",
-    "out",
-    "output",
-    "partition",
-    "patch",
-    "precision",
-    "readonly",
-    "resource",
-    "restrict",
-    "sample",
-    "sampler",
-    "shared",
-    "smooth",
-    "struct",
-    "subroutine",
-    "texture",
-    "uniform",
-    "varying",
-    "volatile",
-    "writeonly",
-];
-
-fn is_word_char(c: char) -> bool {
-    c.is_ascii_alphanumeric() || c == '_'
-}
-
-/// Replaces whole-word occurrences of `from` with `to`.
-fn replace_word(text: &str, from: &str, to: &str) -> String {
-    let mut out = String::with_capacity(text.len());
-    let mut rest = text;
-    while let Some(pos) = rest.find(from) {
-        let before = rest[..pos].chars().next_back();
-        let after = rest[pos + from.len()..].chars().next();
-        out.push_str(&rest[..pos]);
-        if before.is_some_and(is_word_char) || after.is_some_and(is_word_char) {
-            out.push_str(from);
-        } else {
-            out.push_str(to);
-        }
-        rest = &rest[pos + from.len()..];
-    }
-    out.push_str(rest);
-    out
-}
-
-fn contains_word(text: &str, word: &str) -> bool {
-    replace_word(text, word, "") != text
-}
-
-/// naga names GLSL resources `_group_G_binding_B_<stage>`; exports use the WGSL
-/// name instead wherever it is a safe, unused GLSL identifier, and record the
-/// identifier in the reflection either way.
-fn readable_glsl_names(mut text: String, reflection: &mut EntryReflection, stage: Stage) -> String {
-    let suffix = match stage {
-        Stage::Compute => "cs",
-        Stage::Vertex => "vs",
-        Stage::Fragment => "fs",
-    };
-    for b in &mut reflection.bindings {
-        let Some(slot) = b.glsl.as_mut() else {
-            continue;
-        };
-        let naga_name = format!("_group_{}_binding_{}_{suffix}", b.group, b.binding);
-        let safe = !b.name.starts_with("gl_")
-            && !b.name.starts_with('_')
-            && !GLSL_RESERVED.contains(&b.name.as_str())
-            && !contains_word(&text, &b.name);
-        if safe && contains_word(&text, &naga_name) {
-            text = replace_word(&text, &naga_name, &b.name);
-            slot.name = b.name.clone();
-        } else {
-            slot.name = naga_name;
-        }
-    }
-    text
-}
-
 fn write_glsl(
     module: &naga::Module,
     info: &ModuleInfo,
@@ -357,7 +299,7 @@ fn write_glsl(
     )
     .map_err(|e| e.to_string())?;
     writer.write().map_err(|e| e.to_string())?;
-    Ok(readable_glsl_names(text, reflection, stage))
+    Ok(rewrite::glsl(text, reflection, stage))
 }
 
 fn hlsl_target(register: &str, space: u32) -> Result<hlsl::BindTarget, String> {
@@ -382,18 +324,20 @@ fn write_hlsl(
 ) -> Result<String, String> {
     let mut binding_map = BTreeMap::new();
     for b in &reflection.bindings {
-        let target = if matches!(b.resource, Resource::Sampler { .. }) {
-            // A sampler is read from the heap through the group's sampler index
-            // buffer; naga takes its element of that buffer as the register.
-            hlsl::BindTarget {
+        let target = match b.hlsl.sampler_index.or_else(|| {
+            (b.resource.is_sampler()).then(|| b.hlsl.register[1..].parse().unwrap_or(0))
+        }) {
+            // naga reads every sampler from its heap through the group's sampler index
+            // buffer and takes the sampler's element of that buffer as the register;
+            // classic samplers replace these lines afterwards (see `rewrite::hlsl`).
+            Some(index) => hlsl::BindTarget {
                 space: u8::try_from(b.group).map_err(|_| "space out of range".to_string())?,
-                register: b.hlsl.sampler_index.unwrap_or(0),
+                register: index,
                 binding_array_size: None,
                 dynamic_storage_buffer_offsets_index: None,
                 restrict_indexing: false,
-            }
-        } else {
-            hlsl_target(&b.hlsl.register, b.hlsl.space)?
+            },
+            None => hlsl_target(&b.hlsl.register, b.hlsl.space)?,
         };
         binding_map.insert(resource_binding(b.group, b.binding), target);
     }
@@ -403,6 +347,16 @@ fn write_hlsl(
             hlsl::SamplerIndexBufferKey { group: s.group },
             hlsl_target(&s.register, s.space)?,
         );
+    }
+    // With classic samplers the index buffers are removed again: any free slot does.
+    for b in reflection
+        .bindings
+        .iter()
+        .filter(|b| b.resource.is_sampler())
+    {
+        sampler_buffer_binding_map
+            .entry(hlsl::SamplerIndexBufferKey { group: b.group })
+            .or_insert(hlsl_target("t0", 200 + b.group)?);
     }
     let options = hlsl::Options {
         shader_model: hlsl::ShaderModel::V6_0,
@@ -426,7 +380,7 @@ fn write_hlsl(
 fn write_msl(
     module: &naga::Module,
     info: &ModuleInfo,
-    reflection: &EntryReflection,
+    reflection: &mut EntryReflection,
     stage: Stage,
     entry: &str,
 ) -> Result<String, String> {
@@ -435,15 +389,14 @@ fn write_msl(
         let slot = u8::try_from(b.msl.index).map_err(|_| "MSL index out of range".to_string())?;
         let mut target = msl::BindTarget::default();
         match &b.resource {
-            Resource::UniformBuffer { .. } => target.buffer = Some(slot),
-            Resource::StorageBuffer { access, .. } => {
+            Resource::Buffer { ty, .. } => {
                 target.buffer = Some(slot);
-                target.mutable = access != "read";
+                target.mutable = ty == "storage";
             }
             Resource::Texture { .. } => target.texture = Some(slot),
             Resource::StorageTexture { access, .. } => {
                 target.texture = Some(slot);
-                target.mutable = access != "read";
+                target.mutable = access != "read-only";
             }
             Resource::Sampler { .. } => {
                 target.sampler = Some(msl::BindSamplerTarget::Resource(slot));
@@ -477,7 +430,19 @@ fn write_msl(
         entry_point: Some((stage.to_naga(), entry.to_string())),
         ..Default::default()
     };
-    msl::write_string(module, info, &options, &pipeline)
+    let text = msl::write_string(module, info, &options, &pipeline)
         .map(|(text, _)| text)
-        .map_err(|e| e.to_string())
+        .map_err(|e| e.to_string())?;
+    let runtime_arrays: Vec<(u32, String)> = module
+        .global_variables
+        .iter()
+        .filter(|(_, g)| g.binding.is_some())
+        .filter_map(|(h, g)| {
+            let name = g.name.clone()?;
+            let b = reflection.bindings.iter().find(|b| b.name == name)?;
+            rewrite::has_runtime_array(&b.resource).then_some((h.index() as u32, name))
+        })
+        .collect();
+    rewrite::msl_buffer_sizes(&text, reflection, &runtime_arrays, buffers as u32);
+    Ok(text)
 }

@@ -10,7 +10,8 @@ use crate::options::Filtering;
 use crate::shaders::CodegenError;
 
 /// The layout entries of the fog group (`volfog::bindings`): 0 `Froxels` uniform,
-/// 1 integrated volume (3D, filterable float), 2 linear sampler (absent with manual
+/// 1 integrated volume (3D float; filterable with a sampler, unfilterable with manual
+/// filtering, which only loads texels), 2 linear sampler (absent with manual
 /// filtering), 3 `HeightFog` uniform (the analytic tail beyond the far plane, in view
 /// space).
 pub fn fog_layout_entries(
@@ -19,7 +20,12 @@ pub fn fog_layout_entries(
 ) -> Vec<wgpu::BindGroupLayoutEntry> {
     let mut entries = vec![
         uniform_entry(0, visibility),
-        texture_entry(1, visibility, wgpu::TextureViewDimension::D3, true),
+        texture_entry(
+            1,
+            visibility,
+            wgpu::TextureViewDimension::D3,
+            filtering == Filtering::Sampler,
+        ),
     ];
     if filtering == Filtering::Sampler {
         entries.push(super::sampler_entry(2, visibility, true));

@@ -659,7 +659,7 @@ fn noise_gradient_on_lattice_is_the_selected_edge_gradient() {
 #[test]
 fn noise_kernel_translates_to_every_target() {
     let module = common::compose(EVAL_KERNEL, &[]);
-    let entries = volfog_codegen::translate::translate("noise_test", module)
+    let entries = volfog_codegen::translate::translate("noise_test", module, &Default::default())
         .unwrap_or_else(|e| panic!("{e}"));
     assert_eq!(entries.len(), 1);
     let entry = &entries[0];

@@ -13,6 +13,8 @@ fn pass(source: &'static str) -> PassSource {
         axes: &[],
         values: &[],
         usage: "",
+        non_filtering_samplers: &[],
+        render: None,
     }
 }
 
@@ -120,19 +122,36 @@ fn every_shader_file_is_in_the_manifest_under_its_path() {
 
 #[test]
 fn unknown_defines_and_bad_values_are_rejected_with_the_valid_ones() {
+    use volfog_codegen::reflect::HlslSamplers;
     use volfog_codegen::translate::compose_variant;
-    let err = compose_variant("scan", &["VOLFOG_NOPE".to_string()]).unwrap_err();
+    let err =
+        compose_variant("scan", &["VOLFOG_NOPE".to_string()], HlslSamplers::Classic).unwrap_err();
     assert!(
         err.to_string().contains("VOLFOG_SCAN_WRONSKI_STEP"),
         "{err}"
     );
-    let err = compose_variant("scan", &["VOLFOG_SCAN_WRONSKI_STEP=3".to_string()]).unwrap_err();
+    let err = compose_variant(
+        "scan",
+        &["VOLFOG_SCAN_WRONSKI_STEP=3".to_string()],
+        HlslSamplers::Classic,
+    )
+    .unwrap_err();
     assert!(err.to_string().contains("takes no value"), "{err}");
-    let err = compose_variant("esm_blur", &["VOLFOG_ESM_BLUR_RADIUS=17".to_string()]).unwrap_err();
+    let err = compose_variant(
+        "esm_blur",
+        &["VOLFOG_ESM_BLUR_RADIUS=17".to_string()],
+        HlslSamplers::Classic,
+    )
+    .unwrap_err();
     assert!(err.to_string().contains("out of range 1..=16"), "{err}");
-    let err = compose_variant("esm_blur", &["VOLFOG_ESM_BLUR_RADIUS".to_string()]).unwrap_err();
+    let err = compose_variant(
+        "esm_blur",
+        &["VOLFOG_ESM_BLUR_RADIUS".to_string()],
+        HlslSamplers::Classic,
+    )
+    .unwrap_err();
     assert!(err.to_string().contains("needs a value"), "{err}");
-    let err = compose_variant("nope", &[]).unwrap_err();
+    let err = compose_variant("nope", &[], HlslSamplers::Classic).unwrap_err();
     assert!(err.to_string().contains("scan"), "{err}");
 }
 

@@ -8,6 +8,7 @@ use std::process::Command;
 
 use volfog_codegen::Target;
 use volfog_codegen::export::{ExportRequest, export};
+use volfog_codegen::reflect::HlslSamplers;
 
 use crate::common::{exported, scratch, variants};
 
@@ -144,6 +145,7 @@ fn custom_defines_compose_at_run_time() {
         targets: vec![Target::Wgsl, Target::Hlsl],
         variants: vec![],
         defines: vec!["VOLFOG_SCAN_WRONSKI_STEP".to_string()],
+        hlsl_samplers: HlslSamplers::Classic,
     })
     .unwrap();
     let wgsl =
@@ -171,6 +173,7 @@ fn re_export_replaces_the_previous_export_whole() {
         targets,
         variants,
         defines: vec![],
+        hlsl_samplers: HlslSamplers::Classic,
     };
     export(&request(Target::ALL.to_vec(), vec![])).unwrap();
     std::fs::write(out.join("hlsl/stale.hlsl"), "old").unwrap();

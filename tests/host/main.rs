@@ -2,6 +2,7 @@
 //! and independent validators), the export folder and its manifest, the uniform
 //! layouts against naga, and the WGSL constants against their Rust twins.
 
+mod bind_groups;
 mod codegen_errors;
 mod constants;
 mod exports;
@@ -14,6 +15,7 @@ mod common {
     use std::sync::OnceLock;
 
     use volfog_codegen::export::{ExportRequest, export};
+    use volfog_codegen::reflect::HlslSamplers;
     use volfog_codegen::translate::{VariantOutput, generate_variant};
     use volfog_codegen::{Target, manifest};
 
@@ -23,7 +25,10 @@ mod common {
         ALL.get_or_init(|| {
             manifest::variants()
                 .iter()
-                .map(|v| generate_variant(v).unwrap_or_else(|e| panic!("{}: {e}", v.name)))
+                .map(|v| {
+                    generate_variant(v, HlslSamplers::Classic)
+                        .unwrap_or_else(|e| panic!("{}: {e}", v.name))
+                })
                 .collect()
         })
     }
@@ -45,6 +50,7 @@ mod common {
                 targets: Target::ALL.to_vec(),
                 variants: vec![],
                 defines: vec![],
+                hlsl_samplers: HlslSamplers::Classic,
             })
             .expect("the export succeeds");
             out

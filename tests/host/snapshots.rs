@@ -27,6 +27,7 @@ use sha2::{Digest, Sha256};
 use volfog_codegen::Target;
 use volfog_codegen::export::manifest_value;
 use volfog_codegen::manifest::{self, PASSES};
+use volfog_codegen::reflect::HlslSamplers;
 use volfog_codegen::translate::VariantOutput;
 
 /// The text targets that are snapshotted.
@@ -183,7 +184,7 @@ fn translations_and_manifest() {
                 .chain(axis_variants.iter().copied())
                 .cloned()
                 .collect();
-            let manifest = manifest_value(&variants, &Target::ALL);
+            let manifest = manifest_value(&variants, &Target::ALL, HlslSamplers::Classic);
             insta::assert_snapshot!(
                 "manifest",
                 serde_json::to_string_pretty(&manifest["variants"]).unwrap()
@@ -192,7 +193,7 @@ fn translations_and_manifest() {
         });
     }
     with_snapshot_path(&root, || {
-        let mut manifest = manifest_value(&[], &Target::ALL);
+        let mut manifest = manifest_value(&[], &Target::ALL, HlslSamplers::Classic);
         manifest.as_object_mut().unwrap().remove("variants");
         insta::assert_snapshot!("manifest", serde_json::to_string_pretty(&manifest).unwrap());
     });

@@ -849,7 +849,7 @@ impl Workloads {
             None
         };
         // Alternate the order of the two cameras so that drift cancels.
-        let (ts, tl) = if f % 2 == 0 {
+        let (ts, tl) = if f.is_multiple_of(2) {
             let ts = self.small.frame(gpu)?;
             (ts, self.large.frame(gpu)?)
         } else {

@@ -343,10 +343,10 @@ impl VolumetricFog {
         if let Some(shadow) = &self.shadow_map {
             next.set_shadow_map(device, &shadow.texture)?;
         }
-        if let Some(density) = self.density.as_ref().filter(|d| d.user) {
-            if config.density_texture {
-                next.set_density_texture(device, &density.texture)?;
-            }
+        if let Some(density) = self.density.as_ref().filter(|d| d.user)
+            && config.density_texture
+        {
+            next.set_density_texture(device, &density.texture)?;
         }
         *self = next;
         Ok(())

@@ -22,13 +22,15 @@
 
 use std::path::{Path, PathBuf};
 
-use serde::Serialize;
-
 use crate::compose::{Defines, valid_defines};
+mod manifest_json;
+
+pub use manifest_json::{manifest_json, manifest_value};
+
 use crate::manifest::{self, PASSES};
-use crate::reflect::{Binding, HlslSamplerIndexBuffer, StructLayout};
+use crate::reflect::HlslSamplers;
 use crate::translate::{VariantOutput, compose_variant, generate_variant};
-use crate::{CodegenError, Stage, Target};
+use crate::{CodegenError, Target};
 
 /// What to export.
 #[derive(Debug, Clone)]
@@ -42,6 +44,8 @@ pub struct ExportRequest {
     pub variants: Vec<String>,
     /// Custom defines (`NAME` or `NAME=VALUE`), composed at run time.
     pub defines: Vec<String>,
+    /// How HLSL binds samplers.
+    pub hlsl_samplers: HlslSamplers,
 }
 
 /// Export failures. Each leaves the destination untouched.
@@ -84,108 +88,6 @@ pub struct ExportSummary {
     pub files: usize,
 }
 
-#[derive(Serialize)]
-struct Manifest<'a> {
-    generator: String,
-    conventions: Conventions,
-    targets: Vec<TargetInfo>,
-    variants: Vec<VariantEntry<'a>>,
-}
-
-#[derive(Serialize)]
-struct Conventions {
-    clip_space: &'static str,
-    uniforms: &'static str,
-    glsl: &'static str,
-    hlsl_samplers: &'static str,
-    msl: &'static str,
-}
-
-#[derive(Serialize)]
-struct TargetInfo {
-    target: &'static str,
-    folder: &'static str,
-    extension: &'static str,
-    version: &'static str,
-    validated_by: &'static str,
-}
-
-#[derive(Serialize)]
-struct VariantEntry<'a> {
-    name: &'a str,
-    pass: &'a str,
-    defines: &'a [String],
-    usage: &'static str,
-    entry_points: Vec<EntryEntry<'a>>,
-}
-
-#[derive(Serialize)]
-struct EntryEntry<'a> {
-    name: &'a str,
-    stage: Stage,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    workgroup_size: Option<[u32; 3]>,
-    files: std::collections::BTreeMap<&'static str, String>,
-    bindings: &'a [Binding],
-    #[serde(skip_serializing_if = "<[_]>::is_empty")]
-    hlsl_sampler_index_buffers: &'a [HlslSamplerIndexBuffer],
-    structs: &'a [StructLayout],
-}
-
-fn target_info(target: Target) -> TargetInfo {
-    let (version, validated_by) = match target {
-        Target::Wgsl => (
-            "WGSL (WebGPU)",
-            "naga validation (all flags); runs on wgpu in the tests",
-        ),
-        Target::Spirv => (
-            "SPIR-V 1.3, Vulkan 1.1",
-            "naga validation; spirv-val --target-env vulkan1.1 in the tests",
-        ),
-        Target::Glsl => (
-            "GLSL 450 core",
-            "naga validation; glslangValidator in the tests",
-        ),
-        Target::Hlsl => (
-            "HLSL shader model 6.0",
-            "naga validation only: no HLSL compiler runs on Linux here; reviewed as snapshots",
-        ),
-        Target::Msl => (
-            "Metal Shading Language 2.1",
-            "naga validation only: no Metal compiler runs on Linux here; reviewed as snapshots",
-        ),
-    };
-    TargetInfo {
-        target: target.name(),
-        folder: target.name(),
-        extension: target.extension(),
-        version,
-        validated_by,
-    }
-}
-
-const CONVENTIONS: Conventions = Conventions {
-    clip_space: "WebGPU: NDC x, y in [-1, 1] with y up, depth in [0, 1]; framebuffer and texture \
-                 coordinates start at the top-left. Froxel volumes map screen uv (v down) to x, y.",
-    uniforms: "Uniform buffers use the WGSL uniform layout (std140-compatible); struct member \
-               offsets and sizes are listed per entry point.",
-    glsl: "GL-style bindings: layout(binding = N) numbered per namespace (uniform blocks, texture \
-           units, image units, shader storage blocks). A sampler is merged into the combined \
-           sampler of the texture it samples and has no binding of its own. Vertex outputs are \
-           adjusted to OpenGL clip space (y flipped, depth remapped to [-1, 1]) so images keep \
-           WebGPU's memory layout.",
-    hlsl_samplers: "Samplers are read from naga's sampler heaps: SamplerState \
-                    nagaSamplerHeap[2048] at s0 space0 and SamplerComparisonState \
-                    nagaComparisonSamplerHeap[2048] at s0 space1. Each group with samplers has \
-                    a StructuredBuffer<uint> of heap indices (hlsl_sampler_index_buffers); a \
-                    sampler's hlsl.sampler_index is its element in that buffer. Engines without \
-                    a sampler heap use the variants with BINDINGS_NO_SAMPLER (manual filtering).",
-    msl: "Argument indices are assigned per entry point: [[buffer(i)]], [[texture(i)]] and \
-          [[sampler(i)]] count up separately over all groups in (group, binding) order; the \
-          buffer after the last bound buffer receives runtime array sizes when a storage buffer \
-          has a runtime-sized array.",
-};
-
 fn io(path: &Path) -> impl FnOnce(std::io::Error) -> ExportError + '_ {
     move |source| ExportError::Io {
         path: path.to_path_buf(),
@@ -225,9 +127,10 @@ pub fn select(request: &ExportRequest) -> Result<Vec<VariantOutput>, ExportError
         if request.variants.is_empty() {
             chosen = manifest::variants();
         }
+        add_vertex_passes(&mut chosen);
         return chosen
             .iter()
-            .map(|v| generate_variant(v).map_err(ExportError::from))
+            .map(|v| generate_variant(v, request.hlsl_samplers).map_err(ExportError::from))
             .collect();
     }
     if passes.is_empty() {
@@ -249,55 +152,49 @@ pub fn select(request: &ExportRequest) -> Result<Vec<VariantOutput>, ExportError
             ))));
         }
     }
-    passes
+    let mut outputs: Vec<VariantOutput> = passes
         .iter()
-        .map(|p| compose_variant(p, &request.defines).map_err(ExportError::from))
-        .collect()
+        .map(|p| {
+            compose_variant(p, &request.defines, request.hlsl_samplers).map_err(ExportError::from)
+        })
+        .collect::<Result<_, _>>()?;
+    let mut vertex = Vec::new();
+    add_vertex_passes_of(&mut vertex, passes.iter().copied(), |name| {
+        outputs.iter().any(|o| o.name == name)
+    });
+    for v in &vertex {
+        outputs.push(generate_variant(v, request.hlsl_samplers)?);
+    }
+    Ok(outputs)
 }
 
-/// Builds the manifest JSON for variant outputs and targets.
-pub fn manifest_json(variants: &[VariantOutput], targets: &[Target]) -> String {
-    serde_json::to_string_pretty(&manifest_value(variants, targets)).expect("manifest serialises")
+/// Adds the default variant of every pass whose vertex shader a chosen pass draws with.
+fn add_vertex_passes(chosen: &mut Vec<manifest::Variant>) {
+    let passes: Vec<&str> = chosen.iter().map(|v| v.pass.name).collect();
+    let names: Vec<String> = chosen.iter().map(|v| v.name.clone()).collect();
+    let mut extra = Vec::new();
+    add_vertex_passes_of(&mut extra, passes.into_iter(), |name| {
+        names.iter().any(|n| n == name)
+    });
+    chosen.extend(extra);
 }
 
-/// The manifest as a JSON value: `generator`, `conventions`, `targets` and `variants`.
-pub fn manifest_value(variants: &[VariantOutput], targets: &[Target]) -> serde_json::Value {
-    let manifest = Manifest {
-        generator: format!("volfog {}", env!("CARGO_PKG_VERSION")),
-        conventions: CONVENTIONS,
-        targets: targets.iter().map(|t| target_info(*t)).collect(),
-        variants: variants
-            .iter()
-            .map(|v| VariantEntry {
-                name: &v.name,
-                pass: &v.pass,
-                defines: &v.defines,
-                usage: manifest::pass(&v.pass).map(|p| p.usage).unwrap_or(""),
-                entry_points: v
-                    .entries
-                    .iter()
-                    .map(|e| EntryEntry {
-                        name: &e.entry,
-                        stage: e.stage,
-                        workgroup_size: e.reflection.workgroup_size,
-                        files: targets
-                            .iter()
-                            .map(|t| {
-                                (
-                                    t.name(),
-                                    format!("{}/{}", t.name(), e.file_name(&v.name, *t)),
-                                )
-                            })
-                            .collect(),
-                        bindings: &e.reflection.bindings,
-                        hlsl_sampler_index_buffers: &e.reflection.hlsl_sampler_index_buffers,
-                        structs: &e.reflection.structs,
-                    })
-                    .collect(),
-            })
-            .collect(),
-    };
-    serde_json::to_value(&manifest).expect("manifest serialises")
+fn add_vertex_passes_of<'a>(
+    out: &mut Vec<manifest::Variant>,
+    passes: impl Iterator<Item = &'a str>,
+    present: impl Fn(&str) -> bool,
+) {
+    for pass in passes {
+        let vertex = manifest::pass(pass)
+            .and_then(|p| p.render)
+            .and_then(|r| r.vertex);
+        if let Some((vertex_pass, _)) = vertex {
+            let name = manifest::variant_name(vertex_pass, &[]);
+            if !present(&name) && !out.iter().any(|v| v.name == name) {
+                out.extend(manifest::variant(&name));
+            }
+        }
+    }
 }
 
 /// Exports the request; the destination changes only when everything was written.
@@ -321,7 +218,7 @@ pub fn export(request: &ExportRequest) -> Result<ExportSummary, ExportError> {
         .map(|n| n.to_string_lossy().into_owned())
         .unwrap_or_else(|| "export".to_string());
     let staging = parent.join(format!(".{leaf}.volfog-staging-{}", std::process::id()));
-    let result = write_staging(&staging, &variants, &targets)
+    let result = write_staging(&staging, &variants, &targets, request.hlsl_samplers)
         .and_then(|summary| commit(&staging, out, &targets).map(|_| summary));
     if staging.exists() {
         let _ = std::fs::remove_dir_all(&staging);
@@ -333,6 +230,7 @@ fn write_staging(
     staging: &Path,
     variants: &[VariantOutput],
     targets: &[Target],
+    hlsl_samplers: HlslSamplers,
 ) -> Result<ExportSummary, ExportError> {
     if staging.exists() {
         std::fs::remove_dir_all(staging).map_err(io(staging))?;
@@ -356,7 +254,7 @@ fn write_staging(
         }
     }
     let path = staging.join("manifest.json");
-    std::fs::write(&path, manifest_json(variants, targets)).map_err(io(&path))?;
+    std::fs::write(&path, manifest_json(variants, targets, hlsl_samplers)).map_err(io(&path))?;
     Ok(ExportSummary {
         variants: variants.len(),
         entry_points,

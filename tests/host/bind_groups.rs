@@ -1,0 +1,222 @@
+//! Every bind group layout the wgpu runtime builds against the reflection of the
+//! shader it binds (the manifest's bindings): the same bindings, and for each the same
+//! buffer type, texture sample type and dimension, storage format and access, sampler
+//! type, and a visibility that includes every stage that uses it.
+
+use volfog::options::{Filtering, InjectOptions};
+use volfog::pipeline::{apply, esm, hull, inject, scan, temporal};
+use volfog_codegen::Stage;
+use volfog_codegen::reflect::Resource;
+use volfog_codegen::translate::VariantOutput;
+
+fn variant(name: &str) -> &'static VariantOutput {
+    crate::common::variants()
+        .iter()
+        .find(|v| v.name == name)
+        .unwrap_or_else(|| panic!("variant {name}"))
+}
+
+fn stage_flag(stage: Stage) -> wgpu::ShaderStages {
+    match stage {
+        Stage::Compute => wgpu::ShaderStages::COMPUTE,
+        Stage::Vertex => wgpu::ShaderStages::VERTEX,
+        Stage::Fragment => wgpu::ShaderStages::FRAGMENT,
+    }
+}
+
+fn dimension(d: wgpu::TextureViewDimension) -> &'static str {
+    match d {
+        wgpu::TextureViewDimension::D1 => "1d",
+        wgpu::TextureViewDimension::D2 => "2d",
+        wgpu::TextureViewDimension::D2Array => "2d-array",
+        wgpu::TextureViewDimension::Cube => "cube",
+        wgpu::TextureViewDimension::CubeArray => "cube-array",
+        wgpu::TextureViewDimension::D3 => "3d",
+    }
+}
+
+/// The reflection's description of what a layout entry must be.
+fn matches(entry: &wgpu::BindGroupLayoutEntry, resource: &Resource) -> Result<(), String> {
+    use wgpu::BindingType as B;
+    let ok = match (&entry.ty, resource) {
+        (B::Buffer { ty, .. }, Resource::Buffer { ty: want, .. }) => {
+            let got = match ty {
+                wgpu::BufferBindingType::Uniform => "uniform",
+                wgpu::BufferBindingType::Storage { read_only: true } => "read-only-storage",
+                wgpu::BufferBindingType::Storage { read_only: false } => "storage",
+            };
+            got == want
+        }
+        (
+            B::Texture {
+                sample_type,
+                view_dimension,
+                multisampled,
+            },
+            Resource::Texture {
+                view_dimension: want_dim,
+                sample_type: want_type,
+                multisampled: want_ms,
+            },
+        ) => {
+            let got = match sample_type {
+                wgpu::TextureSampleType::Float { filterable: true } => "float",
+                wgpu::TextureSampleType::Float { filterable: false } => "unfilterable-float",
+                wgpu::TextureSampleType::Depth => "depth",
+                wgpu::TextureSampleType::Sint => "sint",
+                wgpu::TextureSampleType::Uint => "uint",
+            };
+            got == want_type && dimension(*view_dimension) == want_dim && multisampled == want_ms
+        }
+        (
+            B::StorageTexture {
+                access,
+                format,
+                view_dimension,
+            },
+            Resource::StorageTexture {
+                view_dimension: want_dim,
+                format: want_format,
+                access: want_access,
+            },
+        ) => {
+            let got_access = match access {
+                wgpu::StorageTextureAccess::WriteOnly => "write-only",
+                wgpu::StorageTextureAccess::ReadOnly => "read-only",
+                wgpu::StorageTextureAccess::ReadWrite => "read-write",
+                wgpu::StorageTextureAccess::Atomic => "atomic",
+            };
+            got_access == want_access
+                && format!("{format:?}").to_lowercase() == *want_format
+                && dimension(*view_dimension) == want_dim
+        }
+        (B::Sampler(kind), Resource::Sampler { ty }) => {
+            let got = match kind {
+                wgpu::SamplerBindingType::Filtering => "filtering",
+                wgpu::SamplerBindingType::NonFiltering => "non-filtering",
+                wgpu::SamplerBindingType::Comparison => "comparison",
+            };
+            got == ty
+        }
+        _ => false,
+    };
+    if ok {
+        Ok(())
+    } else {
+        Err(format!("layout {:?} vs shader {resource:?}", entry.ty))
+    }
+}
+
+/// Checks the layouts of `groups` (group index, entries) against every entry point of
+/// the variant: each reflected binding has its entry, and every entry is used.
+fn check(variant_name: &str, groups: &[(u32, Vec<wgpu::BindGroupLayoutEntry>)]) -> usize {
+    let v = variant(variant_name);
+    let mut problems = Vec::new();
+    let mut used = std::collections::BTreeSet::new();
+    for e in &v.entries {
+        for b in &e.reflection.bindings {
+            let entry = groups
+                .iter()
+                .find(|(g, _)| *g == b.group)
+                .and_then(|(_, entries)| entries.iter().find(|l| l.binding == b.binding));
+            let Some(entry) = entry else {
+                problems.push(format!("{} {}: no layout entry", e.entry, b.name));
+                continue;
+            };
+            used.insert((b.group, b.binding));
+            if let Err(p) = matches(entry, &b.resource) {
+                problems.push(format!("{} {}: {p}", e.entry, b.name));
+            }
+            if !entry.visibility.contains(stage_flag(e.stage)) {
+                problems.push(format!(
+                    "{} {}: not visible to {:?}",
+                    e.entry, b.name, e.stage
+                ));
+            }
+        }
+    }
+    for (g, entries) in groups {
+        for l in entries {
+            if !used.contains(&(*g, l.binding)) {
+                problems.push(format!(
+                    "group {g} binding {}: in the layout, unused",
+                    l.binding
+                ));
+            }
+        }
+    }
+    assert!(
+        problems.is_empty(),
+        "{variant_name}:\n{}",
+        problems.join("\n")
+    );
+    used.len()
+}
+
+#[test]
+fn runtime_layouts_match_the_shaders() {
+    let mut checked = 0;
+    for name in ["scan@default", "scan@SCAN_WRONSKI_STEP"] {
+        checked += check(name, &[(0, scan::ScanPass::layout_entries().to_vec())]);
+    }
+    checked += check(
+        "temporal@default",
+        &[(0, temporal::TemporalPass::layout_entries().to_vec())],
+    );
+    for name in ["esm_downsample@default", "esm_downsample@ESM_LOG_SPACE"] {
+        checked += check(name, &[(0, esm::EsmPasses::downsample_entries().to_vec())]);
+    }
+    for name in ["esm_blur@default", "esm_blur@ESM_LOG_SPACE"] {
+        checked += check(name, &[(0, esm::EsmPasses::blur_entries().to_vec())]);
+    }
+    for v in volfog_codegen::manifest::variants()
+        .into_iter()
+        .filter(|v| v.pass.name == "inject")
+    {
+        let options = InjectOptions {
+            density_texture: v.defines.contains(&"VOLFOG_INJECT_DENSITY_TEXTURE"),
+            ..InjectOptions::default()
+        };
+        checked += check(
+            &v.name,
+            &[(0, inject::InjectPass::layout_entries(&options))],
+        );
+    }
+    for (name, filtering) in [
+        ("apply@default", Filtering::Sampler),
+        ("apply@BINDINGS_NO_SAMPLER", Filtering::Manual),
+    ] {
+        let groups = [
+            (
+                0,
+                apply::fog_layout_entries(filtering, wgpu::ShaderStages::FRAGMENT),
+            ),
+            (1, apply::depth_layout_entries().to_vec()),
+        ];
+        checked += check(name, &groups);
+    }
+    checked += check(
+        "hull_thickness@default",
+        &[(0, hull::HullThicknessPass::layout_entries().to_vec())],
+    );
+    checked += check(
+        "hull_composite@default",
+        &[(0, hull::HullCompositePass::layout_entries().to_vec())],
+    );
+    eprintln!("{checked} runtime layout entries match their shaders' bindings");
+}
+
+/// The layout check fails on a mismatch: a filterable texture where the shader only
+/// loads, and a missing binding.
+#[test]
+fn a_wrong_layout_is_caught() {
+    let mut wrong = scan::ScanPass::layout_entries().to_vec();
+    if let wgpu::BindingType::Texture { sample_type, .. } = &mut wrong[1].ty {
+        *sample_type = wgpu::TextureSampleType::Float { filterable: true };
+    }
+    let caught = std::panic::catch_unwind(|| check("scan@default", &[(0, wrong.clone())]));
+    assert!(caught.is_err());
+    wrong.remove(0);
+    let caught = std::panic::catch_unwind(|| check("scan@default", &[(0, wrong)]));
+    assert!(caught.is_err());
+}
