@@ -4,6 +4,8 @@
 // Use:      #import volfog::apply::{fog_coord_from_view, fog_sample, fog_tail, fog_with_tail, apply_fog}
 //           let fog = fog_sample(volume, volume_sampler, fog_coord_from_view(p, froxels));
 //           color = apply_fog(color, fog_with_tail(fog, fog_tail(froxels, tail, p)));
+//           From a world position w: p = fog_view_position(w, view_from_world), or
+//           fog_coord_from_world(w, view_from_world, froxels).
 // Defines:  none (the bindings live in volfog::bindings).
 // Data:     the integrated volume (the scan pass output) holds, in texel (x, y, k), the
 //           in-scattered radiance (rgb) and transmittance (a) from the near plane to the
@@ -40,6 +42,17 @@ fn fog_coord_from_view(view_pos: vec3<f32>, froxels: Froxels) -> vec4<f32> {
     let clip = froxels.clip_from_view * vec4<f32>(view_pos, 1.0);
     let ndc = clip.xy / select(clip.w, 1e-30, abs(clip.w) < 1e-30);
     return fog_coord(uv_from_ndc(ndc), abs(view_pos.z), froxels);
+}
+
+// View-space position (m) of a world-space position (m), with the camera's
+// world -> view transform (FogView.view_from_world).
+fn fog_view_position(world_pos: vec3<f32>, view_from_world: mat4x4<f32>) -> vec3<f32> {
+    return (view_from_world * vec4<f32>(world_pos, 1.0)).xyz;
+}
+
+// Fog coordinate of a world-space position (m).
+fn fog_coord_from_world(world_pos: vec3<f32>, view_from_world: mat4x4<f32>, froxels: Froxels) -> vec4<f32> {
+    return fog_coord_from_view(fog_view_position(world_pos, view_from_world), froxels);
 }
 
 // Fog coordinate of a point in normalised device coordinates: x, y in [-1, 1] (y up)

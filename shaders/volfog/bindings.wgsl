@@ -12,9 +12,11 @@
 //           binding 3  uniform HeightFog (64 bytes): the analytic tail beyond the far
 //                      plane, in VIEW space (up, base height and sun direction relative
 //                      to the camera); density 0 disables it
+//           binding 4  uniform FogView (64 bytes): the camera's world -> view transform,
+//                      for fog_coord_from_world
 #define_import_path volfog::bindings
 
-#import volfog::types::{Froxels, HeightFog}
+#import volfog::types::{Froxels, HeightFog, FogView}
 
 #ifdef VOLFOG_FOG_GROUP
 @group(#{VOLFOG_FOG_GROUP}) @binding(0) var<uniform> fog_froxels: Froxels;
@@ -23,6 +25,7 @@
 @group(#{VOLFOG_FOG_GROUP}) @binding(2) var fog_sampler: sampler;
 #endif
 @group(#{VOLFOG_FOG_GROUP}) @binding(3) var<uniform> fog_far_tail: HeightFog;
+@group(#{VOLFOG_FOG_GROUP}) @binding(4) var<uniform> fog_view: FogView;
 #else
 @group(0) @binding(0) var<uniform> fog_froxels: Froxels;
 @group(0) @binding(1) var fog_integrated: texture_3d<f32>;
@@ -30,4 +33,5 @@
 @group(0) @binding(2) var fog_sampler: sampler;
 #endif
 @group(0) @binding(3) var<uniform> fog_far_tail: HeightFog;
+@group(0) @binding(4) var<uniform> fog_view: FogView;
 #endif

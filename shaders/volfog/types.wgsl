@@ -163,6 +163,13 @@ struct ShadowCascades {
     exponent: f32,
 }
 
+// The camera of a frame, for shaders that start from world positions (the fog group's
+// binding 4).
+struct FogView {
+    // World -> view transform (m): rigid, the camera looks down -Z.
+    view_from_world: mat4x4<f32>,
+}
+
 // Closed-form global height fog (Wenzel 2007, eq. 2; volfog::height_fog). Extinction
 // f(p) = density * exp(-falloff * (dot(p, up) - base_height)), lit by a constant
 // radiance plus an optional Henyey-Greenstein sun lobe (sun_color = 0 disables it).

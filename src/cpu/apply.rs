@@ -1,7 +1,7 @@
 //! Mirror of `volfog::apply`: fog coordinates, filtered look-ups of the integrated
 //! volume, and applying fog to a colour.
 
-use glam::{Vec2, Vec3, Vec4};
+use glam::{Mat4, Vec2, Vec3, Vec4};
 
 use super::froxel::{slice_coord, uv_from_ndc, view_from_ndc};
 use crate::uniforms::{Froxels, HeightFog};
@@ -20,6 +20,17 @@ pub fn fog_coord_from_view(view_pos: Vec3, froxels: &Froxels) -> Vec4 {
     let w = if clip.w.abs() < 1e-30 { 1e-30 } else { clip.w };
     let ndc = Vec2::new(clip.x, clip.y) / w;
     fog_coord(uv_from_ndc(ndc), view_pos.z.abs(), froxels)
+}
+
+/// View-space position of a world-space position with the camera's world -> view
+/// transform.
+pub fn fog_view_position(world_pos: Vec3, view_from_world: Mat4) -> Vec3 {
+    (view_from_world * world_pos.extend(1.0)).truncate()
+}
+
+/// Fog coordinate of a world-space position.
+pub fn fog_coord_from_world(world_pos: Vec3, view_from_world: Mat4, froxels: &Froxels) -> Vec4 {
+    fog_coord_from_view(fog_view_position(world_pos, view_from_world), froxels)
 }
 
 /// Fog coordinate of a point in normalised device coordinates.

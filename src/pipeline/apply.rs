@@ -13,7 +13,7 @@ use crate::shaders::CodegenError;
 /// 1 integrated volume (3D float; filterable with a sampler, unfilterable with manual
 /// filtering, which only loads texels), 2 linear sampler (absent with manual
 /// filtering), 3 `HeightFog` uniform (the analytic tail beyond the far plane, in view
-/// space).
+/// space), 4 `FogView` uniform (the camera's world -> view transform).
 pub fn fog_layout_entries(
     filtering: Filtering,
     visibility: wgpu::ShaderStages,
@@ -31,28 +31,40 @@ pub fn fog_layout_entries(
         entries.push(super::sampler_entry(2, visibility, true));
     }
     entries.push(uniform_entry(3, visibility));
+    entries.push(uniform_entry(4, visibility));
     entries
 }
 
-/// A fog group (layout from [`fog_layout_entries`] with `filtering`): the `Froxels`
-/// uniform, the integrated volume, the `HeightFog` tail uniform (view space) and, with
-/// [`Filtering::Sampler`], the sampler of [`fog_sampler`].
+/// The resources of a fog group.
+#[derive(Debug, Clone, Copy)]
+pub struct FogResources<'a> {
+    /// The `Froxels` uniform.
+    pub froxels: &'a wgpu::Buffer,
+    /// The integrated volume.
+    pub integrated: &'a wgpu::TextureView,
+    /// The `HeightFog` tail uniform (view space).
+    pub tail: &'a wgpu::Buffer,
+    /// The `FogView` uniform.
+    pub view: &'a wgpu::Buffer,
+    /// The sampler of [`fog_sampler`] (bound with [`Filtering::Sampler`] only).
+    pub sampler: &'a wgpu::Sampler,
+}
+
+/// A fog group (layout from [`fog_layout_entries`] with `filtering`).
 pub fn fog_bind_group(
     device: &wgpu::Device,
     layout: &wgpu::BindGroupLayout,
     filtering: Filtering,
-    froxels: &wgpu::Buffer,
-    integrated: &wgpu::TextureView,
-    tail: &wgpu::Buffer,
-    sampler: &wgpu::Sampler,
+    r: &FogResources<'_>,
 ) -> wgpu::BindGroup {
     let mut resources = vec![
-        (0, froxels.as_entire_binding()),
-        (1, wgpu::BindingResource::TextureView(integrated)),
-        (3, tail.as_entire_binding()),
+        (0, r.froxels.as_entire_binding()),
+        (1, wgpu::BindingResource::TextureView(r.integrated)),
+        (3, r.tail.as_entire_binding()),
+        (4, r.view.as_entire_binding()),
     ];
     if filtering == Filtering::Sampler {
-        resources.push((2, wgpu::BindingResource::Sampler(sampler)));
+        resources.push((2, wgpu::BindingResource::Sampler(r.sampler)));
     }
     bind_group(device, "volfog fog", layout, &resources)
 }

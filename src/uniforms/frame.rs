@@ -1,5 +1,5 @@
-//! `FogFrame` (per-frame camera and temporal state) and `HistoryState` (what a
-//! history volume holds).
+//! `FogFrame` (per-frame camera and temporal state), `HistoryState` (what a history
+//! volume holds) and `FogView` (the camera of the fog group).
 
 use encase::ShaderType;
 use glam::{Mat4, Vec3};
@@ -35,4 +35,12 @@ pub struct HistoryState {
     pub clip_from_world: Mat4,
     /// 1 once a volume was written.
     pub valid: u32,
+}
+
+/// The camera of a frame in the fog group (WGSL `volfog::types::FogView`), for shaders
+/// that start from world positions (`volfog::apply::fog_coord_from_world`).
+#[derive(Debug, Clone, Copy, PartialEq, Default, ShaderType)]
+pub struct FogView {
+    /// World -> view transform.
+    pub view_from_world: Mat4,
 }

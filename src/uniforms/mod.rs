@@ -29,7 +29,7 @@ mod shadow;
 
 pub use bytes::{to_storage_bytes, to_uniform_bytes};
 pub use fog_volume::FogVolume;
-pub use frame::{FogFrame, HistoryState};
+pub use frame::{FogFrame, FogView, HistoryState};
 pub use froxels::Froxels;
 pub use height_fog::HeightFog;
 pub use hull::FogHull;

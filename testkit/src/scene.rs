@@ -7,7 +7,7 @@ use volfog::cpu::froxel::froxel_jitter;
 use volfog::pipeline::{
     FogConfig, FrameInputs, FrameUniforms, VolumetricFog, cascade_projection, cascade_splits,
 };
-use volfog::uniforms::{FogFrame, FogLighting, FogMedium, Froxels, ShadowCascades};
+use volfog::uniforms::{FogFrame, FogLighting, FogMedium, FogView, Froxels, ShadowCascades};
 
 use crate::gpu::Gpu;
 
@@ -193,5 +193,6 @@ pub fn expected_uniforms(
         },
         cascades: inputs.cascades,
         tail: inputs.tail.to_view_space(view_from_world),
+        view: FogView { view_from_world },
     }
 }

@@ -9,7 +9,9 @@ use volfog::cpu;
 use volfog::cpu::apply::Volume;
 use volfog::cpu::scan::SCAN_START;
 use volfog::options::{EsmOptions, Filtering, ScanStep};
-use volfog::pipeline::apply::{ApplyPipeline, fog_bind_group, fog_layout_entries, fog_sampler};
+use volfog::pipeline::apply::{
+    ApplyPipeline, FogResources, fog_bind_group, fog_layout_entries, fog_sampler,
+};
 use volfog::pipeline::scan::ScanPass;
 use volfog::uniforms::Froxels;
 
@@ -553,6 +555,11 @@ pub fn run_apply(gpu: &Gpu, filtering: Filtering, case: &ApplyCase) -> Result<Ve
         .map_err(|e| GpuError::Operation(e.to_string()))?;
     let froxel_buffer = uniform_buffer(gpu, "froxels", &case.froxels.to_bytes());
     let tail_buffer = uniform_buffer(gpu, "tail", &case.tail.to_bytes());
+    let view_buffer = uniform_buffer(
+        gpu,
+        "view",
+        &volfog::uniforms::to_uniform_bytes(&volfog::uniforms::FogView::default()),
+    );
     let volume = gpu.texture_3d_rgba16f("integrated", case.froxels.size.to_array(), &case.volume);
     let depth = depth_texture(gpu, case.width, case.height, &case.depth)?;
     let color = gpu.texture_2d_rgba16f("scene colour", [case.width, case.height], &case.color);
@@ -562,10 +569,13 @@ pub fn run_apply(gpu: &Gpu, filtering: Filtering, case: &ApplyCase) -> Result<Ve
                 &gpu.device,
                 &fog_layout,
                 filtering,
-                &froxel_buffer,
-                &volume.create_view(&Default::default()),
-                &tail_buffer,
-                &fog_sampler(&gpu.device),
+                &FogResources {
+                    froxels: &froxel_buffer,
+                    integrated: &volume.create_view(&Default::default()),
+                    tail: &tail_buffer,
+                    view: &view_buffer,
+                    sampler: &fog_sampler(&gpu.device),
+                },
             ),
             pass.depth_bind_group(
                 &gpu.device,

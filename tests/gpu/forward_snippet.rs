@@ -1,6 +1,7 @@
 //! The forward snippet in an engine's own lit shader: it composes with
 //! `volfog::apply` / `volfog::bindings` in the engine's bind group scheme, validates,
-//! and on the GPU gives the same fog as the fullscreen apply pass.
+//! and on the GPU gives the same fog as the fullscreen apply pass, from view-space
+//! positions and from world positions (through the fog group's `FogView`).
 
 use crate::common;
 
@@ -16,7 +17,7 @@ use wgpu::util::DeviceExt;
 /// groups, and the fog bind group at index 2.
 const LIT_SHADER: &str = r#"
 #import volfog::bindings
-#import volfog::apply::{fog_coord_from_view, fog_sample, fog_tail, fog_with_tail, apply_fog}
+#import volfog::apply::{fog_coord_from_view, fog_coord_from_world, fog_view_position, fog_sample, fog_tail, fog_with_tail, apply_fog}
 
 struct View {
     clip_from_view: mat4x4<f32>,
@@ -33,6 +34,7 @@ struct VertexOut {
     @builtin(position) clip: vec4<f32>,
     @location(0) view_pos: vec3<f32>,
     @location(1) normal: vec3<f32>,
+    @location(2) world_pos: vec3<f32>,
 }
 
 @vertex
@@ -42,6 +44,7 @@ fn vs(@location(0) position: vec3<f32>, @location(1) normal: vec3<f32>) -> Verte
     out.clip = view.clip_from_view * vec4<f32>(view_pos, 1.0);
     out.view_pos = view_pos;
     out.normal = (view.view_from_world * vec4<f32>(normal, 0.0)).xyz;
+    out.world_pos = position;
     return out;
 }
 
@@ -52,25 +55,42 @@ fn fs(in: VertexOut) -> @location(0) vec4<f32> {
 #ifdef ENGINE_WITHOUT_FOG
     return vec4<f32>(lit, material.base_color.a);
 #else
+#ifdef ENGINE_WORLD_POSITIONS
+    let view_from_world = bindings::fog_view.view_from_world;
+    let coord = fog_coord_from_world(in.world_pos, view_from_world, bindings::fog_froxels);
+    let view_pos = fog_view_position(in.world_pos, view_from_world);
+#else
     let coord = fog_coord_from_view(in.view_pos, bindings::fog_froxels);
+    let view_pos = in.view_pos;
+#endif
     let fog = fog_sample(bindings::fog_integrated, bindings::fog_sampler, coord);
-    let tail = fog_tail(bindings::fog_froxels, bindings::fog_far_tail, in.view_pos);
+    let tail = fog_tail(bindings::fog_froxels, bindings::fog_far_tail, view_pos);
     return vec4<f32>(apply_fog(lit, fog_with_tail(fog, tail)), material.base_color.a);
 #endif
 }
 "#;
 
-fn defs(with_fog: bool) -> Vec<(&'static str, ShaderDefValue)> {
+/// How the lit shader fogs.
+#[derive(Clone, Copy, PartialEq)]
+enum Fog {
+    None,
+    FromView,
+    FromWorld,
+}
+
+fn defs(fog: Fog) -> Vec<(&'static str, ShaderDefValue)> {
     let mut d = vec![("VOLFOG_FOG_GROUP", ShaderDefValue::UInt(2))];
-    if !with_fog {
-        d.push(("ENGINE_WITHOUT_FOG", ShaderDefValue::Bool(true)));
+    match fog {
+        Fog::None => d.push(("ENGINE_WITHOUT_FOG", ShaderDefValue::Bool(true))),
+        Fog::FromWorld => d.push(("ENGINE_WORLD_POSITIONS", ShaderDefValue::Bool(true))),
+        Fog::FromView => {}
     }
     d
 }
 
 #[test]
 fn lit_shader_composes_with_apply_and_validates() {
-    let module = compose(LIT_SHADER, &defs(true));
+    let module = compose(LIT_SHADER, &defs(Fog::FromView));
     let info = naga::valid::Validator::new(
         naga::valid::ValidationFlags::all(),
         naga::valid::Capabilities::default(),
@@ -100,7 +120,8 @@ fn forward_snippet_agrees_with_fullscreen_pass() {
     let froxels = case.froxels;
 
     // A floor-like quad receding from 0.3 m (in front of the fog's near plane) to
-    // 300 m (beyond its far plane), in view space (view_from_world = identity).
+    // 300 m (beyond its far plane), given in view space and placed in the world by a
+    // rigid camera transform.
     let corners = [
         Vec3::new(-0.4, -0.25, -0.3),
         Vec3::new(0.4, -0.25, -0.3),
@@ -110,9 +131,18 @@ fn forward_snippet_agrees_with_fullscreen_pass() {
     let normal = (corners[1] - corners[0])
         .cross(corners[2] - corners[0])
         .normalize();
+    let view_from_world = glam::Mat4::from_rotation_translation(
+        glam::Quat::from_rotation_y(0.4) * glam::Quat::from_rotation_x(-0.1),
+        Vec3::new(3.0, -1.5, 7.0),
+    );
+    let world_from_view = view_from_world.inverse();
     let vertices: Vec<f32> = [0, 1, 2, 2, 1, 3]
         .iter()
-        .flat_map(|&i| [corners[i].to_array(), normal.to_array()].concat())
+        .flat_map(|&i| {
+            let world = world_from_view.transform_point3(corners[i]);
+            let normal = world_from_view.transform_vector3(normal);
+            [world.to_array(), normal.to_array()].concat()
+        })
         .collect();
     let vertex_buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
         label: Some("quad"),
@@ -121,7 +151,7 @@ fn forward_snippet_agrees_with_fullscreen_pass() {
     });
     let view_uniform: Vec<f32> = [
         froxels.clip_from_view.to_cols_array(),
-        glam::Mat4::IDENTITY.to_cols_array(),
+        view_from_world.to_cols_array(),
     ]
     .concat();
     let material: [f32; 8] = [0.7, 0.5, 0.3, 1.0, 0.0, 0.6, 0.8, 0.0];
@@ -146,6 +176,13 @@ fn forward_snippet_agrees_with_fullscreen_pass() {
         usage: wgpu::BufferUsages::UNIFORM,
     });
     let volume_view = volume.create_view(&Default::default());
+    let fog_view_buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+        label: Some("fog view"),
+        contents: &volfog::uniforms::to_uniform_bytes(&volfog::uniforms::FogView {
+            view_from_world,
+        }),
+        usage: wgpu::BufferUsages::UNIFORM,
+    });
 
     let uniform_layout = |vis| {
         device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
@@ -209,13 +246,17 @@ fn forward_snippet_agrees_with_fullscreen_pass() {
                 binding: 3,
                 resource: tail_buffer.as_entire_binding(),
             },
+            wgpu::BindGroupEntry {
+                binding: 4,
+                resource: fog_view_buffer.as_entire_binding(),
+            },
         ],
     );
 
     let format = wgpu::TextureFormat::Rgba16Float;
-    let make_pipeline = |with_fog: bool| {
-        let module = gpu.shader_from_naga("lit", compose(LIT_SHADER, &defs(with_fog)));
-        let groups: Vec<Option<&wgpu::BindGroupLayout>> = if with_fog {
+    let make_pipeline = |fog: Fog| {
+        let module = gpu.shader_from_naga("lit", compose(LIT_SHADER, &defs(fog)));
+        let groups: Vec<Option<&wgpu::BindGroupLayout>> = if fog != Fog::None {
             vec![
                 Some(&view_layout),
                 Some(&material_layout),
@@ -281,10 +322,10 @@ fn forward_snippet_agrees_with_fullscreen_pass() {
         })
     };
     // Background black; fog covers only the quad's pixels in both paths.
-    let render = |with_fog: bool| {
+    let render = |fog: Fog| {
         let color = target(format, "colour");
         let depth = target(wgpu::TextureFormat::Depth32Float, "depth");
-        let pipeline = make_pipeline(with_fog);
+        let pipeline = make_pipeline(fog);
         let color_view = color.create_view(&Default::default());
         let depth_view = depth.create_view(&Default::default());
         let mut encoder = device.create_command_encoder(&Default::default());
@@ -315,7 +356,7 @@ fn forward_snippet_agrees_with_fullscreen_pass() {
             pass.set_pipeline(&pipeline);
             pass.set_bind_group(0, &view_group, &[]);
             pass.set_bind_group(1, &material_group, &[]);
-            if with_fog {
+            if fog != Fog::None {
                 pass.set_bind_group(2, &fog_group, &[]);
             }
             pass.set_vertex_buffer(0, vertex_buffer.slice(..));
@@ -325,8 +366,9 @@ fn forward_snippet_agrees_with_fullscreen_pass() {
         (color, depth)
     };
 
-    let (forward, _) = render(true);
-    let (plain, depth) = render(false);
+    let (forward, _) = render(Fog::FromView);
+    let (from_world, _) = render(Fog::FromWorld);
+    let (plain, depth) = render(Fog::None);
     let unfogged_px = gpu.read_texture_rgba16f(&plain).unwrap();
     let apply = ApplyPipeline::new(device, &fog_layout, Filtering::Sampler, format).unwrap();
     let depth_view = depth.create_view(&wgpu::TextureViewDescriptor {
@@ -340,6 +382,12 @@ fn forward_snippet_agrees_with_fullscreen_pass() {
     gpu.queue.submit([encoder.finish()]);
 
     let forward_px = gpu.read_texture_rgba16f(&forward).unwrap();
+    let world_px = gpu.read_texture_rgba16f(&from_world).unwrap();
+    let world_vs_view = max_abs_diff(&world_px, &forward_px);
+    eprintln!(
+        "fog from world positions vs from view positions: max abs difference {world_vs_view:e} (bound 2e-3)"
+    );
+    assert!(world_vs_view <= 2e-3, "{world_vs_view}");
     let fullscreen_px = gpu.read_texture_rgba16f(&plain).unwrap();
     // Compare the quad's pixels (alpha 1 in the forward image).
     let covered: Vec<usize> = (0..forward_px.len())

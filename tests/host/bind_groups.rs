@@ -108,9 +108,29 @@ fn matches(entry: &wgpu::BindGroupLayoutEntry, resource: &Resource) -> Result<()
 }
 
 /// Checks the layouts of `groups` (group index, entries) against every entry point of
-/// the variant: each reflected binding has its entry, and every entry is used.
+/// the variant: each reflected binding has its entry, and every entry of the groups in
+/// `complete` is used.
 fn check(variant_name: &str, groups: &[(u32, Vec<wgpu::BindGroupLayoutEntry>)]) -> usize {
-    let v = variant(variant_name);
+    check_entries(
+        &variant(variant_name).entries,
+        variant_name,
+        groups,
+        &[0, 1],
+    )
+}
+
+fn check_entries(
+    entries: &[volfog_codegen::translate::EntryOutput],
+    variant_name: &str,
+    groups: &[(u32, Vec<wgpu::BindGroupLayoutEntry>)],
+    complete: &[u32],
+) -> usize {
+    let v = VariantOutput {
+        name: variant_name.to_string(),
+        pass: String::new(),
+        defines: Vec::new(),
+        entries: entries.to_vec(),
+    };
     let mut problems = Vec::new();
     let mut used = std::collections::BTreeSet::new();
     for e in &v.entries {
@@ -135,7 +155,7 @@ fn check(variant_name: &str, groups: &[(u32, Vec<wgpu::BindGroupLayoutEntry>)]) 
             }
         }
     }
-    for (g, entries) in groups {
+    for (g, entries) in groups.iter().filter(|(g, _)| complete.contains(g)) {
         for l in entries {
             if !used.contains(&(*g, l.binding)) {
                 problems.push(format!(
@@ -193,7 +213,8 @@ fn runtime_layouts_match_the_shaders() {
             ),
             (1, apply::depth_layout_entries().to_vec()),
         ];
-        checked += check(name, &groups);
+        // The apply pass reads the fog group but not its FogView (binding 4).
+        checked += check_entries(&variant(name).entries, name, &groups, &[1]);
     }
     checked += check(
         "hull_thickness@default",
@@ -219,4 +240,57 @@ fn a_wrong_layout_is_caught() {
     wrong.remove(0);
     let caught = std::panic::catch_unwind(|| check("scan@default", &[(0, wrong)]));
     assert!(caught.is_err());
+}
+
+/// The fog group's layout against a shader that reads every binding of
+/// `volfog::bindings` (as a forward shader may).
+#[test]
+fn fog_group_layout_matches_volfog_bindings() {
+    for (filtering, defs) in [
+        (Filtering::Sampler, vec![]),
+        (
+            Filtering::Manual,
+            vec![(
+                "VOLFOG_BINDINGS_NO_SAMPLER",
+                naga_oil::compose::ShaderDefValue::Bool(true),
+            )],
+        ),
+    ] {
+        let source = format!(
+            "#import volfog::bindings\n\
+             #import volfog::apply::{{fog_coord_from_world, {}, fog_tail}}\n\
+             @fragment fn fs(@builtin(position) p: vec4<f32>) -> @location(0) vec4<f32> {{\n\
+                 let view = bindings::fog_view.view_from_world;\n\
+                 let coord = fog_coord_from_world(p.xyz, view, bindings::fog_froxels);\n\
+                 let fog = {};\n\
+                 return fog + fog_tail(bindings::fog_froxels, bindings::fog_far_tail, p.xyz);\n\
+             }}\n",
+            if filtering == Filtering::Sampler {
+                "fog_sample"
+            } else {
+                "fog_load"
+            },
+            if filtering == Filtering::Sampler {
+                "fog_sample(bindings::fog_integrated, bindings::fog_sampler, coord)"
+            } else {
+                "fog_load(bindings::fog_integrated, coord)"
+            }
+        );
+        let module = volfog_testkit::kernel::compose(&source, &defs);
+        let entries =
+            volfog_codegen::translate::translate("fog group", module, &Default::default()).unwrap();
+        let groups = [(
+            0,
+            apply::fog_layout_entries(filtering, wgpu::ShaderStages::FRAGMENT),
+        )];
+        let n = check_entries(&entries, "fog group", &groups, &[0]);
+        assert_eq!(
+            n,
+            if filtering == Filtering::Sampler {
+                5
+            } else {
+                4
+            }
+        );
+    }
 }

@@ -141,6 +141,9 @@ fn rust_layouts() -> BTreeMap<&'static str, Measured> {
             clip_from_world: Mat4,
             valid: u32,
         }),
+        measure!(FogView {
+            view_from_world: Mat4,
+        }),
         measure!(FogMedium {
             albedo: Vec3,
             density: f32,

@@ -8,8 +8,8 @@ use crate::cpu::ambient::AmbientSh;
 use crate::cpu::froxel::froxel_jitter;
 use crate::limits::{InvalidValue, check};
 use crate::uniforms::{
-    DirectionalLight, FogFrame, FogLight, FogLighting, FogMedium, Froxels, HeightFog, LocalVolume,
-    ShadowCascades,
+    DirectionalLight, FogFrame, FogLight, FogLighting, FogMedium, FogView, Froxels, HeightFog,
+    LocalVolume, ShadowCascades,
 };
 
 /// The uniforms one frame's inputs become: what
@@ -29,6 +29,8 @@ pub struct FrameUniforms {
     pub cascades: ShadowCascades,
     /// The far-plane tail in view space.
     pub tail: HeightFog,
+    /// The camera for shaders that start from world positions.
+    pub view: FogView,
 }
 
 /// Per-frame inputs.
@@ -179,6 +181,9 @@ impl FrameInputs<'_> {
             },
             cascades: self.cascades,
             tail: self.tail.to_view_space(self.view_from_world),
+            view: FogView {
+                view_from_world: self.view_from_world,
+            },
         })
     }
 }

@@ -48,14 +48,14 @@ pub use error::FogError;
 pub use inputs::{FogPass, FrameInputs, FrameUniforms, PassTimings};
 pub use resources::{SHADOW_MAP_FORMATS, VOLUME_FORMAT, check_device};
 
-use super::apply::{ApplyPipeline, fog_bind_group, fog_layout_entries, fog_sampler};
+use super::apply::{ApplyPipeline, FogResources, fog_bind_group, fog_layout_entries, fog_sampler};
 use super::esm::EsmPasses;
 use super::inject::{InjectPass, InjectResources};
 use super::scan::ScanPass;
 use super::temporal::{TemporalPass, TemporalResources};
 use super::timestamps::TimestampPairs;
 use crate::uniforms::{
-    self, FogFrame, FogLight, FogLighting, FogMedium, Froxels, HeightFog, HistoryState,
+    self, FogFrame, FogLight, FogLighting, FogMedium, FogView, Froxels, HeightFog, HistoryState,
     LocalVolume, ShadowCascades,
 };
 use resources::{
@@ -72,6 +72,7 @@ struct Buffers {
     lighting: wgpu::Buffer,
     cascades: wgpu::Buffer,
     tail: wgpu::Buffer,
+    view: wgpu::Buffer,
     lights: wgpu::Buffer,
     local_volumes: wgpu::Buffer,
 }
@@ -106,12 +107,16 @@ impl Buffers {
                 uniforms::to_uniform_bytes(&ShadowCascades::default()),
             ),
             tail: uniform("volfog tail", HeightFog::none().to_bytes()),
+            view: uniform(
+                "volfog view",
+                uniforms::to_uniform_bytes(&FogView::default()),
+            ),
             lights: storage_buffer(device, "volfog lights", lights.len()),
             local_volumes: storage_buffer(device, "volfog local volumes", volumes.len()),
         }
     }
 
-    fn all(&self) -> [&wgpu::Buffer; 8] {
+    fn all(&self) -> [&wgpu::Buffer; 9] {
         [
             &self.froxels,
             &self.frame,
@@ -119,6 +124,7 @@ impl Buffers {
             &self.lighting,
             &self.cascades,
             &self.tail,
+            &self.view,
             &self.lights,
             &self.local_volumes,
         ]
@@ -294,10 +300,13 @@ impl VolumetricFog {
             device,
             &fog_layout,
             config.apply_filtering,
-            &buffers.froxels,
-            &integrated_view,
-            &buffers.tail,
-            &fog_sampler,
+            &FogResources {
+                froxels: &buffers.froxels,
+                integrated: &integrated_view,
+                tail: &buffers.tail,
+                view: &buffers.view,
+                sampler: &fog_sampler,
+            },
         );
         let timestamps = config
             .timestamps
@@ -430,6 +439,7 @@ impl VolumetricFog {
         queue.write_buffer(&b.lighting, 0, &uniforms::to_uniform_bytes(&u.lighting));
         queue.write_buffer(&b.cascades, 0, &uniforms::to_uniform_bytes(&u.cascades));
         queue.write_buffer(&b.tail, 0, &u.tail.to_bytes());
+        queue.write_buffer(&b.view, 0, &uniforms::to_uniform_bytes(&u.view));
         if !inputs.lights.is_empty() {
             queue.write_buffer(&b.lights, 0, &uniforms::to_storage_bytes(inputs.lights));
         }
