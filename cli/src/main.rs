@@ -57,6 +57,11 @@ enum Command {
         /// naga's sampler `heap` (wgpu's Direct3D 12 layout).
         #[arg(long, value_enum, default_value_t = HlslSamplersArg::Classic)]
         hlsl_samplers: HlslSamplersArg,
+        /// Also write the include snippets into DIR/<target>/include: every one, or
+        /// those named (apply, height_fog, fog_volume, lightning, soft_particles,
+        /// phase, all).
+        #[arg(long, num_args = 0.., value_delimiter = ',')]
+        snippets: Option<Vec<String>>,
     },
     /// Render the demo scene headless with the fog pipeline: PNG + per-pass GPU times.
     Demo(demo::DemoArgs),
@@ -93,6 +98,7 @@ fn main() -> ExitCode {
             define,
             variant,
             hlsl_samplers,
+            snippets,
         } => {
             let request = ExportRequest {
                 out: out.clone(),
@@ -103,14 +109,17 @@ fn main() -> ExitCode {
                     HlslSamplersArg::Classic => HlslSamplers::Classic,
                     HlslSamplersArg::Heap => HlslSamplers::Heap,
                 },
+                snippets,
             };
             match export(&request) {
                 Ok(s) => {
                     println!(
-                        "exported {} variants, {} entry points, {} files to {} (+ manifest.json)",
+                        "exported {} variants, {} entry points, {} files and {} snippet files \
+                         to {} (+ volfog_layout.h, manifest.json)",
                         s.variants,
                         s.entry_points,
                         s.files,
+                        s.snippet_files,
                         out.display()
                     );
                     ExitCode::SUCCESS

@@ -17,6 +17,8 @@
 //! ```
 #![warn(missing_docs)]
 
+#[cfg(feature = "translate")]
+pub mod c_header;
 pub mod compose;
 #[cfg(feature = "translate")]
 pub mod export;
@@ -25,6 +27,8 @@ pub mod names;
 pub mod reflect;
 #[cfg(feature = "translate")]
 mod rewrite;
+#[cfg(feature = "translate")]
+pub mod snippets;
 #[cfg(feature = "translate")]
 pub mod translate;
 

@@ -486,6 +486,21 @@ fn collect_structs(
     }
 }
 
+/// The layout of every named struct of a module (WGSL rules, as naga lays it out).
+pub fn struct_layouts(module: &naga::Module) -> Vec<StructLayout> {
+    let mut layouter = naga::proc::Layouter::default();
+    layouter
+        .update(module.to_ctx())
+        .expect("a validated module has a layout");
+    let mut out = Vec::new();
+    for (handle, ty) in module.types.iter() {
+        if ty.name.is_some() && matches!(ty.inner, naga::TypeInner::Struct { .. }) {
+            collect_structs(module, &layouter, handle, &mut out);
+        }
+    }
+    out
+}
+
 /// How HLSL exports bind samplers.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]

@@ -123,16 +123,44 @@ fn manifest_lists_every_file_with_explicit_slots() {
             }
         }
     }
+    for s in manifest["snippets"].as_array().unwrap() {
+        for (target, file) in s["files"].as_object().unwrap() {
+            let path = out.join(file.as_str().unwrap());
+            assert!(path.is_file(), "{target}: {} missing", path.display());
+            listed += 1;
+        }
+    }
+    let files_in = |dir: &Path| {
+        std::fs::read_dir(dir)
+            .unwrap()
+            .filter(|e| e.as_ref().unwrap().path().is_file())
+            .count()
+    };
     let on_disk: usize = ["wgsl", "spirv", "glsl", "hlsl", "msl"]
         .iter()
-        .map(|t| std::fs::read_dir(out.join(t)).unwrap().count())
+        .map(|t| {
+            let include = out.join(t).join("include");
+            files_in(&out.join(t))
+                + if include.is_dir() {
+                    files_in(&include)
+                } else {
+                    0
+                }
+        })
         .sum();
-    assert_eq!(listed, on_disk);
+    assert_eq!(listed, on_disk, "every file is listed in the manifest");
+    assert!(
+        out.join(manifest["layout_header"].as_str().unwrap())
+            .is_file()
+    );
     // No target falls back to naga's invented slots.
     for t in ["msl", "hlsl"] {
         for f in std::fs::read_dir(out.join(t)).unwrap() {
-            let text = std::fs::read_to_string(f.unwrap().path()).unwrap();
-            assert!(!text.contains("fake"), "{t} output uses a fake binding");
+            let path = f.unwrap().path();
+            if path.is_file() {
+                let text = std::fs::read_to_string(path).unwrap();
+                assert!(!text.contains("fake"), "{t} output uses a fake binding");
+            }
         }
     }
 }
@@ -146,6 +174,7 @@ fn custom_defines_compose_at_run_time() {
         variants: vec![],
         defines: vec!["VOLFOG_SCAN_WRONSKI_STEP".to_string()],
         hlsl_samplers: HlslSamplers::Classic,
+        snippets: None,
     })
     .unwrap();
     let wgsl =
@@ -174,6 +203,7 @@ fn re_export_replaces_the_previous_export_whole() {
         variants,
         defines: vec![],
         hlsl_samplers: HlslSamplers::Classic,
+        snippets: None,
     };
     export(&request(Target::ALL.to_vec(), vec![])).unwrap();
     std::fs::write(out.join("hlsl/stale.hlsl"), "old").unwrap();
@@ -226,4 +256,78 @@ fn bindings_keep_their_wgsl_names_in_every_target() {
         }
     }
     assert!(problems.is_empty(), "{}", problems.join("\n"));
+}
+
+/// `volfog_layout.h` compiles as C11 and C++17 with every warning an error, including
+/// after `near` and `far` were defined as empty macros (as windows.h does), and
+/// declares every struct of the manifest with its size.
+#[test]
+fn layout_header_compiles_in_c_and_cpp() {
+    let out = exported();
+    let header = std::fs::read_to_string(out.join("volfog_layout.h")).unwrap();
+    let manifest: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("manifest.json")).unwrap()).unwrap();
+    let mut structs = std::collections::BTreeMap::new();
+    for v in manifest["variants"].as_array().unwrap() {
+        for e in v["entry_points"].as_array().unwrap() {
+            for s in e["structs"].as_array().unwrap() {
+                structs.insert(
+                    s["name"].as_str().unwrap().to_string(),
+                    s["size"].as_u64().unwrap(),
+                );
+            }
+        }
+    }
+    for (name, size) in &structs {
+        assert!(
+            header.contains(&format!("sizeof(volfog_{name}) == {size},")),
+            "{name} ({size} bytes) is not in the header"
+        );
+    }
+    let dir = scratch("layout-header");
+    std::fs::create_dir_all(&dir).unwrap();
+    let source = "#define near\n#define far\n#include \"volfog_layout.h\"\n\
+                  int volfog_check(void) { volfog_Froxels f; f.curve = 1.0f; return (int)sizeof f + (int)f.curve; }\n";
+    for (compiler, std, file) in [
+        ("gcc", "-std=c11", "check.c"),
+        ("g++", "-std=c++17", "check.cpp"),
+    ] {
+        let path = dir.join(file);
+        std::fs::write(&path, source).unwrap();
+        let o = Command::new(compiler)
+            .args([std, "-Wall", "-Wextra", "-Werror", "-pedantic", "-c", "-o"])
+            .arg(dir.join(format!("{file}.o")))
+            .arg("-I")
+            .arg(out)
+            .arg(&path)
+            .output()
+            .unwrap_or_else(|e| panic!("{compiler}: {e}"));
+        assert!(
+            o.status.success(),
+            "{compiler}: {}",
+            String::from_utf8_lossy(&o.stderr)
+        );
+    }
+    eprintln!(
+        "volfog_layout.h: {} structs, compiled by gcc (C11) and g++ (C++17)",
+        structs.len()
+    );
+    // The assertions are live: a header with one offset changed does not compile.
+    let broken = header.replacen(
+        "== 140, \"volfog_Froxels.near",
+        "== 144, \"volfog_Froxels.near",
+        1,
+    );
+    assert_ne!(broken, header);
+    std::fs::write(dir.join("volfog_layout.h"), broken).unwrap();
+    std::fs::write(dir.join("broken.c"), "#include \"volfog_layout.h\"\n").unwrap();
+    let o = Command::new("gcc")
+        .args(["-std=c11", "-c", "-o"])
+        .arg(dir.join("broken.o"))
+        .arg("-I")
+        .arg(&dir)
+        .arg(dir.join("broken.c"))
+        .output()
+        .unwrap();
+    assert!(!o.status.success(), "a wrong offset must fail to compile");
 }

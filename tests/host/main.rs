@@ -33,6 +33,12 @@ mod common {
         })
     }
 
+    /// Every include snippet (once per process).
+    pub fn snippets() -> &'static [volfog_codegen::snippets::Snippet] {
+        static ALL: OnceLock<Vec<volfog_codegen::snippets::Snippet>> = OnceLock::new();
+        ALL.get_or_init(|| volfog_codegen::snippets::all().expect("snippets generate"))
+    }
+
     /// A fresh folder under the test target directory.
     pub fn scratch(name: &str) -> PathBuf {
         let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join(name);
@@ -51,6 +57,7 @@ mod common {
                 variants: vec![],
                 defines: vec![],
                 hlsl_samplers: HlslSamplers::Classic,
+                snippets: Some(vec![]),
             })
             .expect("the export succeeds");
             out

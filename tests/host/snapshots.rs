@@ -7,7 +7,9 @@
 //! - `spirv.snap`: the SHA-256 of each of those entry points' SPIR-V (the binary is
 //!   checked by the validators in the export tests, not read as disassembly);
 //! - `manifest.snap`: the manifest entries of those variants; `snapshots/manifest.snap`
-//!   holds the manifest's conventions and targets.
+//!   holds the manifest's conventions and targets;
+//! - `snapshots/snippets/`: the include snippets (`volfog_all`, every definition once)
+//!   in each language, and `snapshots/volfog_layout.h.snap` the C/C++ layout header.
 //!
 //! naga names the temporaries it bakes after their expression index (`_e102`), so one
 //! added expression renumbers every later one; in the snapshots each is renamed after
@@ -184,7 +186,7 @@ fn translations_and_manifest() {
                 .chain(axis_variants.iter().copied())
                 .cloned()
                 .collect();
-            let manifest = manifest_value(&variants, &Target::ALL, HlslSamplers::Classic);
+            let manifest = manifest_value(&variants, &[], &Target::ALL, HlslSamplers::Classic);
             insta::assert_snapshot!(
                 "manifest",
                 serde_json::to_string_pretty(&manifest["variants"]).unwrap()
@@ -193,11 +195,34 @@ fn translations_and_manifest() {
         });
     }
     with_snapshot_path(&root, || {
-        let mut manifest = manifest_value(&[], &Target::ALL, HlslSamplers::Classic);
+        let mut manifest = manifest_value(&[], &[], &Target::ALL, HlslSamplers::Classic);
         manifest.as_object_mut().unwrap().remove("variants");
         insta::assert_snapshot!("manifest", serde_json::to_string_pretty(&manifest).unwrap());
+        let header = volfog_codegen::c_header::c_header(
+            &volfog_codegen::export::header_structs(
+                crate::common::variants(),
+                crate::common::snippets(),
+            )
+            .unwrap(),
+        )
+        .unwrap();
+        insta::assert_snapshot!("volfog_layout.h", header);
     });
     referenced.insert(root.join("manifest.snap"));
+    referenced.insert(root.join("volfog_layout.h.snap"));
+    // The snippets, every definition once (`volfog_all`), in each language.
+    let snippet_dir = root.join("snippets");
+    let all = crate::common::snippets()
+        .iter()
+        .find(|s| s.name == volfog_codegen::snippets::ALL_SNIPPETS)
+        .unwrap();
+    with_snapshot_path(&snippet_dir, || {
+        for language in volfog_codegen::snippets::SnippetLanguage::ALL {
+            let name = all.file_name(language);
+            insta::assert_snapshot!(name.clone(), stable_temporaries(all.text(language)));
+            referenced.insert(snippet_dir.join(format!("{name}.snap")));
+        }
+    });
 
     let mut on_disk = Vec::new();
     let mut stack = vec![root.clone()];

@@ -8,6 +8,7 @@ use serde::Serialize;
 
 use crate::manifest::{self, Blend, VertexBuffer};
 use crate::reflect::{Binding, HlslSamplerIndexBuffer, HlslSamplers, MslBufferSizes, StructLayout};
+use crate::snippets::{Snippet, SnippetLanguage};
 use crate::translate::VariantOutput;
 use crate::{Stage, Target};
 
@@ -16,7 +17,18 @@ struct Manifest<'a> {
     generator: String,
     conventions: Conventions,
     targets: Vec<TargetInfo>,
+    layout_header: &'static str,
     variants: Vec<VariantEntry<'a>>,
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    snippets: Vec<SnippetEntry<'a>>,
+}
+
+#[derive(Serialize)]
+struct SnippetEntry<'a> {
+    name: &'a str,
+    files: BTreeMap<&'static str, String>,
+    functions: &'a [String],
+    structs: Vec<&'a str>,
 }
 
 #[derive(Serialize)]
@@ -177,16 +189,19 @@ fn conventions(hlsl_samplers: HlslSamplers) -> Conventions {
 /// Builds the manifest JSON for variant outputs and targets.
 pub fn manifest_json(
     variants: &[VariantOutput],
+    snippets: &[Snippet],
     targets: &[Target],
     hlsl_samplers: HlslSamplers,
 ) -> String {
-    serde_json::to_string_pretty(&manifest_value(variants, targets, hlsl_samplers))
+    serde_json::to_string_pretty(&manifest_value(variants, snippets, targets, hlsl_samplers))
         .expect("manifest serialises")
 }
 
-/// The manifest as a JSON value: `generator`, `conventions`, `targets` and `variants`.
+/// The manifest as a JSON value: `generator`, `conventions`, `targets`,
+/// `layout_header`, `variants` and (when there are any) `snippets`.
 pub fn manifest_value(
     variants: &[VariantOutput],
+    snippets: &[Snippet],
     targets: &[Target],
     hlsl_samplers: HlslSamplers,
 ) -> serde_json::Value {
@@ -194,7 +209,26 @@ pub fn manifest_value(
         generator: format!("volfog {}", env!("CARGO_PKG_VERSION")),
         conventions: conventions(hlsl_samplers),
         targets: targets.iter().map(|t| target_info(*t)).collect(),
+        layout_header: "volfog_layout.h",
         variants: variants.iter().map(|v| variant_entry(v, targets)).collect(),
+        snippets: snippets
+            .iter()
+            .map(|s| SnippetEntry {
+                name: &s.name,
+                files: targets
+                    .iter()
+                    .filter_map(|t| SnippetLanguage::of_target(*t))
+                    .map(|l| {
+                        (
+                            l.target().name(),
+                            format!("{}/include/{}", l.target().name(), s.file_name(l)),
+                        )
+                    })
+                    .collect(),
+                functions: &s.functions,
+                structs: s.structs.iter().map(|st| st.name.as_str()).collect(),
+            })
+            .collect(),
     };
     serde_json::to_value(&manifest).expect("manifest serialises")
 }

@@ -1,7 +1,9 @@
 //! Export of shaders for engines that do not use Rust: every selected variant's
-//! entry points in the chosen targets, as `DIR/<target>/<variant>.<entry>.<stage>.<ext>`,
-//! plus `DIR/manifest.json` with defines, workgroup sizes, bindings (with their
-//! slots in every target) and uniform struct layouts.
+//! entry points in the chosen targets, as `DIR/<target>/<variant>.<entry>.<stage>.<ext>`;
+//! on request the include snippets, as `DIR/<target>/include/volfog_<module>.<ext>`;
+//! `DIR/volfog_layout.h`, the C/C++ structs of every uniform and storage buffer; and
+//! `DIR/manifest.json` with defines, workgroup sizes, draw state, bindings (with their
+//! slots in every target), struct layouts and the snippets.
 //!
 //! Everything is written into a staging folder beside `DIR` first and moved into
 //! place only when complete, so a failed export leaves `DIR` as it was.
@@ -15,6 +17,8 @@
 //!     targets: vec![Target::Hlsl, Target::Spirv],
 //!     variants: vec![],
 //!     defines: vec![],
+//!     hlsl_samplers: Default::default(),
+//!     snippets: Some(vec![]),
 //! })
 //! .unwrap();
 //! println!("{} files", summary.files);
@@ -22,8 +26,10 @@
 
 use std::path::{Path, PathBuf};
 
-use crate::compose::{Defines, valid_defines};
 mod manifest_json;
+
+use crate::compose::{Defines, valid_defines};
+use crate::snippets::{self, Snippet, SnippetLanguage};
 
 pub use manifest_json::{manifest_json, manifest_value};
 
@@ -46,6 +52,9 @@ pub struct ExportRequest {
     pub defines: Vec<String>,
     /// How HLSL binds samplers.
     pub hlsl_samplers: HlslSamplers,
+    /// Include snippets to write: `None` for none, an empty list for every one, or
+    /// module names (see [`snippets::SNIPPET_MODULES`]; `all` is the union).
+    pub snippets: Option<Vec<String>>,
 }
 
 /// Export failures. Each leaves the destination untouched.
@@ -60,6 +69,14 @@ pub enum ExportError {
         valid: String,
         /// Every pass.
         passes: String,
+    },
+    /// A snippet name that is not a snippet module.
+    #[error("unknown snippet {name}; valid snippets: {valid}")]
+    UnknownSnippet {
+        /// The requested name.
+        name: String,
+        /// Every snippet.
+        valid: String,
     },
     /// A define no selected pass accepts, or a bad value.
     #[error(transparent)]
@@ -86,6 +103,8 @@ pub struct ExportSummary {
     pub entry_points: usize,
     /// Shader files written (excluding the manifest).
     pub files: usize,
+    /// Snippet files written.
+    pub snippet_files: usize,
 }
 
 fn io(path: &Path) -> impl FnOnce(std::io::Error) -> ExportError + '_ {
@@ -206,6 +225,7 @@ pub fn export(request: &ExportRequest) -> Result<ExportSummary, ExportError> {
     targets.sort();
     targets.dedup();
     let variants = select(request)?;
+    let snippets = select_snippets(request)?;
 
     let out = &request.out;
     let parent = match out.parent() {
@@ -218,7 +238,13 @@ pub fn export(request: &ExportRequest) -> Result<ExportSummary, ExportError> {
         .map(|n| n.to_string_lossy().into_owned())
         .unwrap_or_else(|| "export".to_string());
     let staging = parent.join(format!(".{leaf}.volfog-staging-{}", std::process::id()));
-    let result = write_staging(&staging, &variants, &targets, request.hlsl_samplers)
+    let contents = Contents {
+        variants: &variants,
+        snippets: &snippets,
+        targets: &targets,
+        hlsl_samplers: request.hlsl_samplers,
+    };
+    let result = write_staging(&staging, &contents)
         .and_then(|summary| commit(&staging, out, &targets).map(|_| summary));
     if staging.exists() {
         let _ = std::fs::remove_dir_all(&staging);
@@ -226,25 +252,71 @@ pub fn export(request: &ExportRequest) -> Result<ExportSummary, ExportError> {
     result
 }
 
-fn write_staging(
-    staging: &Path,
-    variants: &[VariantOutput],
-    targets: &[Target],
+/// Everything an export writes.
+struct Contents<'a> {
+    variants: &'a [VariantOutput],
+    snippets: &'a [Snippet],
+    targets: &'a [Target],
     hlsl_samplers: HlslSamplers,
-) -> Result<ExportSummary, ExportError> {
+}
+
+/// The snippets a request names (every one for an empty list).
+fn select_snippets(request: &ExportRequest) -> Result<Vec<Snippet>, ExportError> {
+    let Some(names) = &request.snippets else {
+        return Ok(Vec::new());
+    };
+    if names.is_empty() {
+        return Ok(snippets::all()?);
+    }
+    names
+        .iter()
+        .map(|n| {
+            if n != snippets::ALL_SNIPPETS && !snippets::SNIPPET_MODULES.contains(&n.as_str()) {
+                return Err(ExportError::UnknownSnippet {
+                    name: n.clone(),
+                    valid: format!(
+                        "{}, {}",
+                        snippets::SNIPPET_MODULES.join(", "),
+                        snippets::ALL_SNIPPETS
+                    ),
+                });
+            }
+            Ok(snippets::snippet(n)?)
+        })
+        .collect()
+}
+
+/// The layouts `volfog_layout.h` declares: every struct of the variants and snippets.
+pub fn header_structs(
+    variants: &[VariantOutput],
+    snippets: &[Snippet],
+) -> Result<Vec<crate::reflect::StructLayout>, CodegenError> {
+    let mut lists: Vec<&[crate::reflect::StructLayout]> = Vec::new();
+    for v in variants {
+        for e in &v.entries {
+            lists.push(&e.reflection.structs);
+        }
+    }
+    for s in snippets {
+        lists.push(&s.structs);
+    }
+    crate::c_header::merge(&lists)
+}
+
+fn write_staging(staging: &Path, c: &Contents<'_>) -> Result<ExportSummary, ExportError> {
     if staging.exists() {
         std::fs::remove_dir_all(staging).map_err(io(staging))?;
     }
     let mut files = 0;
     let mut entry_points = 0;
-    for target in targets {
+    for target in c.targets {
         let dir = staging.join(target.name());
         std::fs::create_dir_all(&dir).map_err(io(&dir))?;
     }
-    for v in variants {
+    for v in c.variants {
         for e in &v.entries {
             entry_points += 1;
-            for target in targets {
+            for target in c.targets {
                 let path = staging
                     .join(target.name())
                     .join(e.file_name(&v.name, *target));
@@ -253,12 +325,35 @@ fn write_staging(
             }
         }
     }
+    let mut snippet_files = 0;
+    for language in c
+        .targets
+        .iter()
+        .filter_map(|t| SnippetLanguage::of_target(*t))
+        .filter(|_| !c.snippets.is_empty())
+    {
+        let dir = staging.join(language.target().name()).join("include");
+        std::fs::create_dir_all(&dir).map_err(io(&dir))?;
+        for s in c.snippets {
+            let path = dir.join(s.file_name(language));
+            std::fs::write(&path, s.text(language)).map_err(io(&path))?;
+            snippet_files += 1;
+        }
+    }
+    let header = crate::c_header::c_header(&header_structs(c.variants, c.snippets)?)?;
+    let path = staging.join("volfog_layout.h");
+    std::fs::write(&path, header).map_err(io(&path))?;
     let path = staging.join("manifest.json");
-    std::fs::write(&path, manifest_json(variants, targets, hlsl_samplers)).map_err(io(&path))?;
+    std::fs::write(
+        &path,
+        manifest_json(c.variants, c.snippets, c.targets, c.hlsl_samplers),
+    )
+    .map_err(io(&path))?;
     Ok(ExportSummary {
-        variants: variants.len(),
+        variants: c.variants.len(),
         entry_points,
         files,
+        snippet_files,
     })
 }
 
@@ -274,6 +369,7 @@ fn commit(staging: &Path, out: &Path, targets: &[Target]) -> Result<(), ExportEr
         }
     }
     let mut names: Vec<&str> = targets.iter().map(|t| t.name()).collect();
+    names.push("volfog_layout.h");
     names.push("manifest.json");
     for name in names {
         let from = staging.join(name);
