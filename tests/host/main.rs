@@ -8,6 +8,7 @@ mod constants;
 mod exports;
 mod layout;
 mod snapshots;
+mod spirv_pipelines;
 
 /// What the test modules share.
 mod common {
