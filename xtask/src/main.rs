@@ -1,12 +1,14 @@
-//! `cargo xtask demo` and `cargo xtask test`: make sure the system tools exist
-//! (Mesa's lavapipe Vulkan driver and loader, spirv-tools, glslang-tools), installing
-//! them with apt-get when running as root, then run the job.
+//! `cargo xtask demo`, `cargo xtask test` and `cargo xtask tools`: make sure the system
+//! packages exist (installing them with apt-get when running as root), build the
+//! independent compilers the tests use, then run the job.
+
+mod system;
+mod tools;
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, exit};
 
-const PACKAGES_GPU: &[&str] = &["mesa-vulkan-drivers", "libvulkan1"];
-const PACKAGES_TOOLS: &[&str] = &["spirv-tools", "glslang-tools"];
+use system::Needs;
 
 fn usage() -> ! {
     eprintln!(
@@ -15,60 +17,20 @@ fn usage() -> ! {
     eprintln!(
         "       cargo xtask test [ARGS...]      run the whole test suite (ARGS go to cargo test)"
     );
+    eprintln!(
+        "       cargo xtask tools               install and build only what the test suite needs (target/tools)"
+    );
     exit(2);
 }
 
-fn root() -> PathBuf {
+pub fn root() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))
         .parent()
         .unwrap()
         .to_path_buf()
 }
 
-fn on_path(tool: &str) -> bool {
-    std::env::var_os("PATH")
-        .map(|paths| std::env::split_paths(&paths).any(|p| p.join(tool).is_file()))
-        .unwrap_or(false)
-}
-
-fn vulkan_loader_present() -> bool {
-    let output = Command::new("ldconfig").arg("-p").output();
-    match output {
-        Ok(o) => String::from_utf8_lossy(&o.stdout).contains("libvulkan.so.1"),
-        Err(_) => [
-            "/usr/lib/x86_64-linux-gnu",
-            "/usr/lib/aarch64-linux-gnu",
-            "/usr/lib",
-            "/usr/lib64",
-        ]
-        .iter()
-        .any(|d| Path::new(d).join("libvulkan.so.1").exists()),
-    }
-}
-
-fn lavapipe_present() -> bool {
-    ["/usr/share/vulkan/icd.d", "/etc/vulkan/icd.d"]
-        .iter()
-        .any(|dir| {
-            std::fs::read_dir(dir)
-                .map(|entries| {
-                    entries
-                        .filter_map(|e| e.ok())
-                        .any(|e| e.file_name().to_string_lossy().starts_with("lvp_icd"))
-                })
-                .unwrap_or(false)
-        })
-}
-
-fn is_root() -> bool {
-    Command::new("id")
-        .arg("-u")
-        .output()
-        .map(|o| String::from_utf8_lossy(&o.stdout).trim() == "0")
-        .unwrap_or(false)
-}
-
-fn run(cmd: &mut Command) {
+pub fn run(cmd: &mut Command) {
     eprintln!("+ {cmd:?}");
     match cmd.status() {
         Ok(s) if s.success() => {}
@@ -78,41 +40,6 @@ fn run(cmd: &mut Command) {
             exit(1);
         }
     }
-}
-
-/// Installs the missing Debian packages (as root) or stops with the command to run.
-fn ensure_system(with_tools: bool) {
-    let mut missing: Vec<&str> = Vec::new();
-    if !vulkan_loader_present() || !lavapipe_present() {
-        missing.extend(PACKAGES_GPU);
-    }
-    if with_tools {
-        for (tool, package) in [
-            ("spirv-val", PACKAGES_TOOLS[0]),
-            ("glslangValidator", PACKAGES_TOOLS[1]),
-        ] {
-            if !on_path(tool) {
-                missing.push(package);
-            }
-        }
-    }
-    if missing.is_empty() {
-        return;
-    }
-    let list = missing.join(" ");
-    if !is_root() {
-        eprintln!("volfog needs these Debian packages: {list}");
-        eprintln!(
-            "install them with:\n\n    sudo apt-get update && sudo apt-get install -y {list}\n"
-        );
-        exit(1);
-    }
-    eprintln!("installing missing packages: {list}");
-    run(Command::new("apt-get").arg("update"));
-    run(Command::new("apt-get")
-        .args(["install", "-y", "--no-install-recommends"])
-        .args(&missing)
-        .env("DEBIAN_FRONTEND", "noninteractive"));
 }
 
 /// Environment for GPU runs on lavapipe: no shader cache, a valid runtime dir.
@@ -137,6 +64,13 @@ fn cargo() -> Command {
     cmd
 }
 
+fn volfog(args: &[&str]) -> Command {
+    let mut cmd = cargo();
+    cmd.args(["run", "--bin", "volfog", "--"]).args(args);
+    gpu_env(&mut cmd);
+    cmd
+}
+
 fn main() {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let Some((job, rest)) = args.split_first() else {
@@ -149,26 +83,21 @@ fn main() {
                 [flag, dir] if flag == "--out" => dir.clone(),
                 _ => usage(),
             };
-            ensure_system(false);
-            run(gpu_env(cargo().args([
-                "run", "--bin", "volfog", "--", "export", "--target", "all", "--out",
-            ]))
-            .arg(Path::new(&out).join("shaders")));
-            run(gpu_env(cargo().args([
-                "run",
-                "--bin",
-                "volfog",
-                "--",
-                "selfcheck",
-            ])));
-            run(
-                gpu_env(cargo().args(["run", "--bin", "volfog", "--", "demo", "--out"]))
-                    .arg(Path::new(&out).join("demo")),
-            );
+            system::ensure(Needs::Gpu);
+            let out = Path::new(&out);
+            run(volfog(&["export", "--target", "all", "--out"]).arg(out.join("shaders")));
+            run(&mut volfog(&["selfcheck"]));
+            run(volfog(&["demo", "--out"]).arg(out.join("demo")));
+        }
+        "tools" => {
+            system::ensure(Needs::Tests);
+            println!("{}", tools::ensure().display());
         }
         "test" => {
-            ensure_system(true);
+            system::ensure(Needs::Tests);
+            let tools = tools::ensure();
             run(gpu_env(cargo().args(["test", "--workspace"]).args(rest))
+                .env("VOLFOG_TOOLS_DIR", tools)
                 .env("INSTA_UPDATE", "no")
                 .env("CI", "true"));
         }
