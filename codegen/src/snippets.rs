@@ -171,18 +171,7 @@ pub fn snippet(name: &str) -> Result<Snippet, CodegenError> {
         .into_iter()
         .filter(|s| s.name.starts_with("volfog_"))
         .collect();
-    // naga's namer appends `_` to a name that ends in a digit (`atan2` -> `atan2_`).
-    let functions: Vec<String> = own
-        .iter()
-        .map(|n| {
-            let name = format!("volfog_{n}");
-            if name.ends_with(|c: char| c.is_ascii_digit()) {
-                name + "_"
-            } else {
-                name
-            }
-        })
-        .collect();
+    let functions: Vec<String> = own.iter().map(|n| format!("volfog_{n}")).collect();
     let backend = |e: String| CodegenError::Backend {
         target: Target::Wgsl,
         variant: format!("snippet {name}"),
@@ -307,20 +296,40 @@ struct Chunk {
 /// comments), and gives naga's anonymous types (`type_N`) names of this module.
 fn chunks(text: &str, module: &str) -> Vec<Chunk> {
     let text = rename_anonymous_types(text, module);
+    // naga's `// language:` note and GLSL's compute-stage extension belong to the
+    // removed entry point's file, not to an include.
+    let kept: String = text
+        .lines()
+        .filter(|l| !(l.starts_with("//") || l.starts_with("#extension")))
+        .map(|l| format!("{l}\n"))
+        .collect();
+    let mut out = split_top_level(&kept);
+    out.retain(|c| {
+        let text = c.text.trim_start();
+        !(c.text.contains(ENTRY)
+            || text.starts_with("void main(")
+            || text.starts_with("#version")
+            || text.starts_with("layout(local_size"))
+    });
+    for c in &mut out {
+        let trimmed = c.text.trim_end().to_string();
+        c.text = trimmed + "\n";
+    }
+    out
+}
+
+/// Splits text into top-level definitions: one starts at each line that begins in the
+/// first column with something other than a closing bracket; attribute lines (HLSL
+/// `[numthreads(..)]`, WGSL `@...`) belong to the definition after them.
+fn split_top_level(text: &str) -> Vec<Chunk> {
     let mut out: Vec<Chunk> = Vec::new();
     let mut pending_attribute = String::new();
     for line in text.lines() {
-        // naga's `// language:` note and GLSL's compute-stage extension belong to the
-        // removed entry point's file, not to an include.
-        if line.starts_with("//") || line.starts_with("#extension") {
-            continue;
-        }
         let top = line
             .chars()
             .next()
             .is_some_and(|c| !c.is_whitespace() && c != '{' && c != '}' && c != ')');
         if line.starts_with('[') || line.starts_with('@') {
-            // HLSL `[numthreads(..)]` / WGSL attributes belong to the next definition.
             pending_attribute.push_str(line);
             pending_attribute.push('\n');
             continue;
@@ -336,22 +345,14 @@ fn chunks(text: &str, module: &str) -> Vec<Chunk> {
             last.text.push('\n');
         }
     }
-    out.retain(|c| {
-        let text = c.text.trim_start();
-        !(c.text.contains(ENTRY)
-            || text.starts_with("void main(")
-            || text.starts_with("#version")
-            || text.starts_with("layout(local_size"))
-    });
-    for c in &mut out {
-        let trimmed = c.text.trim_end().to_string();
-        c.text = trimmed + "\n";
-    }
     out
 }
 
 /// Gives the names naga invents module-independent meaning: anonymous types
-/// (`type_N`) become `volfog_<module>_type_N`, helpers (`naga_*`, `Naga*`) `volfog_*`.
+/// (`type_N`) become `volfog_<module>_type_N`, helpers (`naga_*`, `Naga*`) `volfog_*`;
+/// and gives back the WGSL name of a global that ends in a digit, to which naga's namer
+/// appends `_` (`volfog_phase_hg_sh_l1_` -> `volfog_phase_hg_sh_l1`): the namer's own
+/// collision suffixes are `_N`, so the shorter name stays unique.
 fn rename_anonymous_types(text: &str, module: &str) -> String {
     rename_identifiers(text, |ident| {
         let anonymous = ident
@@ -361,6 +362,12 @@ fn rename_anonymous_types(text: &str, module: &str) -> String {
             Some(format!("volfog_{module}_{ident}"))
         } else if ident.starts_with("naga_") || ident.starts_with("Naga") {
             Some(format!("volfog_{ident}"))
+        } else if ident.starts_with("volfog_")
+            && ident
+                .strip_suffix('_')
+                .is_some_and(|stem| stem.ends_with(|c: char| c.is_ascii_digit()))
+        {
+            Some(ident[..ident.len() - 1].to_string())
         } else {
             None
         }
@@ -553,15 +560,11 @@ fn union(parts: &[Snippet]) -> Snippet {
 /// The chunks of a rendered snippet body (guards removed).
 fn split_rendered(body: &str, language: SnippetLanguage) -> Vec<Chunk> {
     if !language.guarded() {
-        return body
-            .split("\n\n")
-            .filter(|b| !b.trim().is_empty())
-            .map(|b| {
-                let first = b.lines().find(|l| !l.starts_with('@')).unwrap_or("");
-                Chunk {
-                    name: chunk_name(first),
-                    text: b.trim_end().to_string() + "\n",
-                }
+        return split_top_level(body)
+            .into_iter()
+            .map(|c| Chunk {
+                text: c.text.trim_end().to_string() + "\n",
+                ..c
             })
             .collect();
     }
@@ -636,6 +639,35 @@ mod tests {
             "struct volfog_phase_type_5 { float inner[3]; }; volfog_phase_type_50 x; my_type_5; \
              volfog_naga_f2i32(v); volfog_NagaDimensions3D(t); 1.0e5"
         );
+        assert_eq!(
+            rename_anonymous_types("volfog_sh_l1_(d); volfog_SH_Y0_; g0_; volfog_x_", "phase"),
+            "volfog_sh_l1(d); volfog_SH_Y0; g0_; volfog_x_"
+        );
+    }
+
+    #[test]
+    fn every_wgsl_snippet_parses_and_validates_whole() {
+        for s in all().unwrap() {
+            let text = s.text(SnippetLanguage::Wgsl);
+            let module = naga::front::wgsl::parse_str(text)
+                .unwrap_or_else(|e| panic!("{}: {}", s.name, e.emit_to_string(text)));
+            naga::valid::Validator::new(
+                naga::valid::ValidationFlags::all(),
+                naga::valid::Capabilities::all(),
+            )
+            .validate(&module)
+            .unwrap_or_else(|e| panic!("{}: {e:?}", s.name));
+            for f in &s.functions {
+                assert!(
+                    module
+                        .functions
+                        .iter()
+                        .any(|(_, g)| g.name.as_ref() == Some(f)),
+                    "{}: {f}",
+                    s.name
+                );
+            }
+        }
     }
 
     #[test]
@@ -656,6 +688,11 @@ mod tests {
                 }
                 for f in &s.functions {
                     assert!(text.contains(f.as_str()), "{} {language:?}: {f}", s.name);
+                    assert!(
+                        !text.contains(&format!("{f}_(")),
+                        "{} {language:?}: {f}_",
+                        s.name
+                    );
                 }
                 if language.guarded() {
                     for f in &s.functions {

@@ -37,7 +37,14 @@ const FOG_VOLUME_MIN_DIRECTION: f32 = 1e-12;
 // Line parameters (t_near, t_far) where ro + t rd enters and leaves the unit box
 // [-1, 1]^3 (slab test); t_near > t_far when the line misses it.
 fn ray_unit_box(ro: vec3<f32>, rd: vec3<f32>) -> vec2<f32> {
-    let safe = select(rd, vec3<f32>(FOG_VOLUME_MIN_DIRECTION), abs(rd) < vec3<f32>(FOG_VOLUME_MIN_DIRECTION));
+    // Scalar conditions: HLSL 2021 rejects a vector condition in `?:`, which is what a
+    // vector select becomes there.
+    let m = FOG_VOLUME_MIN_DIRECTION;
+    let safe = vec3<f32>(
+        select(rd.x, m, abs(rd.x) < m),
+        select(rd.y, m, abs(rd.y) < m),
+        select(rd.z, m, abs(rd.z) < m),
+    );
     let inv = 1.0 / safe;
     let ta = (vec3<f32>(-1.0) - ro) * inv;
     let tb = (vec3<f32>(1.0) - ro) * inv;

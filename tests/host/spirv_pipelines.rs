@@ -12,7 +12,7 @@ use vkcheck::{
     Validator, VertexAttribute, VertexBuffer, vk,
 };
 
-use crate::common::exported;
+use crate::common::{entry_points, exported, manifest, vertex_of};
 
 fn read_spirv(dir: &Path, file: &str) -> Vec<u32> {
     let bytes = std::fs::read(dir.join(file)).unwrap();
@@ -52,7 +52,7 @@ fn add_bindings(sets: &mut Vec<Vec<DescriptorBinding>>, entry: &Value) {
             sets.resize(set + 1, Vec::new());
         }
         match sets[set].iter_mut().find(|d| d.binding == binding) {
-            Some(d) => d.stages = d.stages | stage,
+            Some(d) => d.stages |= stage,
             None => sets[set].push(DescriptorBinding {
                 binding,
                 kind: kind(&b["resource"]),
@@ -98,30 +98,11 @@ fn component(c: &Value) -> BlendComponent {
 #[test]
 fn every_spirv_entry_point_makes_a_clean_pipeline_from_the_manifest() {
     let dir = exported();
-    let manifest: Value =
-        serde_json::from_str(&std::fs::read_to_string(dir.join("manifest.json")).unwrap()).unwrap();
     let validator = Validator::new().unwrap_or_else(|e| panic!("{e}"));
-    let find = |variant: &str, entry: &str| -> Value {
-        manifest["variants"]
-            .as_array()
-            .unwrap()
-            .iter()
-            .find(|v| v["name"] == variant)
-            .and_then(|v| {
-                v["entry_points"]
-                    .as_array()
-                    .unwrap()
-                    .iter()
-                    .find(|e| e["name"] == entry)
-                    .cloned()
-            })
-            .unwrap_or_else(|| panic!("{variant}.{entry} is not in the manifest"))
-    };
     let (mut compute, mut graphics, mut vertex_used) = (0, 0, std::collections::BTreeSet::new());
     let mut problems = Vec::new();
-    for v in manifest["variants"].as_array().unwrap() {
-        let variant = v["name"].as_str().unwrap();
-        for e in v["entry_points"].as_array().unwrap() {
+    for (variant, e) in entry_points() {
+        {
             let name = e["name"].as_str().unwrap();
             let spirv = read_spirv(dir, e["files"]["spirv"].as_str().unwrap());
             let mut sets = Vec::new();
@@ -133,11 +114,10 @@ fn every_spirv_entry_point_makes_a_clean_pipeline_from_the_manifest() {
                 }
                 "fragment" => {
                     graphics += 1;
-                    let vref = &e["vertex"];
-                    let (vv, ve) = (vref["variant"].as_str().unwrap(), vref["entry"].as_str().unwrap());
-                    let vertex = find(vv, ve);
+                    let (vv, vertex) = vertex_of(e);
+                    let ve = vertex["name"].as_str().unwrap();
                     vertex_used.insert(format!("{vv}.{ve}"));
-                    add_bindings(&mut sets, &vertex);
+                    add_bindings(&mut sets, vertex);
                     let vertex_spirv = read_spirv(dir, vertex["files"]["spirv"].as_str().unwrap());
                     let buffers: Vec<VertexBuffer> = vertex["vertex_buffers"]
                         .as_array()
@@ -198,12 +178,13 @@ fn every_spirv_entry_point_makes_a_clean_pipeline_from_the_manifest() {
     );
     assert!(problems.is_empty(), "{}", problems.join("\n"));
     // Every vertex entry point was drawn with.
-    for v in manifest["variants"].as_array().unwrap() {
-        for e in v["entry_points"].as_array().unwrap() {
-            if e["stage"] == "vertex" {
-                let key = format!("{}.{}", v["name"].as_str().unwrap(), e["name"].as_str().unwrap());
-                assert!(vertex_used.contains(&key), "{key} is never paired with a fragment shader");
-            }
+    for (variant, e) in entry_points() {
+        if e["stage"] == "vertex" {
+            let key = format!("{variant}.{}", e["name"].as_str().unwrap());
+            assert!(
+                vertex_used.contains(&key),
+                "{key} is never paired with a fragment shader"
+            );
         }
     }
 }
@@ -213,9 +194,7 @@ fn every_spirv_entry_point_makes_a_clean_pipeline_from_the_manifest() {
 #[test]
 fn a_wrong_manifest_layout_is_reported() {
     let dir = exported();
-    let manifest: Value =
-        serde_json::from_str(&std::fs::read_to_string(dir.join("manifest.json")).unwrap()).unwrap();
-    let inject = manifest["variants"]
+    let inject = manifest()["variants"]
         .as_array()
         .unwrap()
         .iter()
@@ -234,5 +213,8 @@ fn a_wrong_manifest_layout_is_reported() {
         .unwrap()
         .compute_pipeline(&spirv, "inject", &sets)
         .unwrap();
-    assert!(!messages.is_empty(), "the validation layer reports the mismatch");
+    assert!(
+        !messages.is_empty(),
+        "the validation layer reports the mismatch"
+    );
 }
