@@ -11,6 +11,7 @@ use crate::limits::{self, InvalidValue, check};
 /// `density * exp(-falloff * (dot(p - center, gradient) - offset))`. `Default` is a
 /// placeholder for layout probes; build one with [`FogVolume::new`].
 #[derive(Debug, Clone, Copy, PartialEq, Default, ShaderType)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct FogVolume {
     /// World -> local transform (affine); the shape is the unit box or sphere there.
     pub local_from_world: Mat4,

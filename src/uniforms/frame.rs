@@ -6,6 +6,7 @@ use glam::{Mat4, Vec3};
 
 /// Per-frame camera and temporal state (WGSL `volfog::types::FogFrame`).
 #[derive(Debug, Clone, Copy, PartialEq, Default, ShaderType)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct FogFrame {
     /// View -> world transform of the current camera.
     pub world_from_view: Mat4,
@@ -30,6 +31,7 @@ pub struct FogFrame {
 /// submitted cannot make the next one reproject with the wrong camera. Zeroed
 /// buffers read as "no history".
 #[derive(Debug, Clone, Copy, PartialEq, Default, ShaderType)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct HistoryState {
     /// World -> clip of the frame whose volume it is.
     pub clip_from_world: Mat4,
@@ -40,6 +42,7 @@ pub struct HistoryState {
 /// The camera of a frame in the fog group (WGSL `volfog::types::FogView`), for shaders
 /// that start from world positions (`volfog::apply::fog_coord_from_world`).
 #[derive(Debug, Clone, Copy, PartialEq, Default, ShaderType)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct FogView {
     /// World -> view transform.
     pub view_from_world: Mat4,

@@ -9,6 +9,7 @@ use crate::limits::{self, InvalidValue, check};
 /// `Default` is a placeholder for layout probes, not a valid placement: build one
 /// with [`Froxels::new`].
 #[derive(Debug, Clone, Copy, PartialEq, Default, ShaderType)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct Froxels {
     /// Projection (view -> clip).
     pub clip_from_view: Mat4,

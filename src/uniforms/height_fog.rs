@@ -12,6 +12,7 @@ use crate::limits::{self, InvalidValue};
 /// lit by `color` plus an optional sun lobe. `Default` is a placeholder for layout
 /// probes; build one with [`HeightFog::new`] (and [`HeightFog::with_sun`]).
 #[derive(Debug, Clone, Copy, PartialEq, Default, ShaderType)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct HeightFog {
     /// In-scattered radiance (linear rgb), [0, 1e9].
     pub color: Vec3,

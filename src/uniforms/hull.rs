@@ -27,6 +27,7 @@ use crate::limits::{self, InvalidValue, check};
 /// assert!(hull.with_depth_range(1.0, 0.3).is_err());
 /// ```
 #[derive(Debug, Clone, Copy, PartialEq, Default, ShaderType)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct FogHull {
     /// World -> clip (projection * view).
     pub clip_from_world: glam::Mat4,

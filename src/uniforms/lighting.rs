@@ -9,6 +9,7 @@ use crate::limits::{self, InvalidValue, check};
 
 /// The main directional light (WGSL `volfog::types::DirectionalLight`).
 #[derive(Debug, Clone, Copy, PartialEq, ShaderType)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct DirectionalLight {
     /// Unit direction from the scene towards the light.
     pub direction: Vec3,
@@ -57,6 +58,7 @@ impl DirectionalLight {
 
 /// A point or spot light affecting the fog (WGSL `volfog::types::FogLight`).
 #[derive(Debug, Clone, Copy, PartialEq, Default, ShaderType)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct FogLight {
     /// World position (m).
     pub position: Vec3,
@@ -151,6 +153,7 @@ impl FogLight {
 
 /// Lighting of the medium (WGSL `volfog::types::FogLighting`).
 #[derive(Debug, Clone, Copy, PartialEq, Default, ShaderType)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct FogLighting {
     /// The directional light.
     pub sun: DirectionalLight,

@@ -9,6 +9,7 @@ use crate::limits::{self, InvalidValue, Range, check};
 
 /// The participating medium (WGSL `volfog::types::FogMedium`).
 #[derive(Debug, Clone, Copy, PartialEq, ShaderType)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct FogMedium {
     /// Single-scattering albedo per channel, [0, 1].
     pub albedo: Vec3,
@@ -107,6 +108,7 @@ pub enum VolumeShape {
 
 /// A local fog volume (WGSL `volfog::types::LocalVolume`).
 #[derive(Debug, Clone, Copy, PartialEq, Default, ShaderType)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct LocalVolume {
     /// World -> unit shape space.
     pub local_from_world: Mat4,

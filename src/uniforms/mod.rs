@@ -6,6 +6,11 @@
 //! `shaders/volfog/types.wgsl`; the tests compare every member offset and the size
 //! with naga's layout of the composed shaders.
 //!
+//! With the `serde` feature (on by default) each struct serializes with its WGSL
+//! member names: vectors as arrays, matrices as 16 numbers in column order, nested
+//! structs as objects. Those names are the `structs` members of the export manifest,
+//! so a host in another language can lay the bytes out from the manifest's offsets.
+//!
 //! ```
 //! use glam::{Mat4, UVec3};
 //! use volfog::uniforms::Froxels;

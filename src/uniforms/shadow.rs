@@ -8,6 +8,7 @@ use crate::limits::{self, InvalidValue, Range, check};
 
 /// Cascaded shadow maps of the directional light (WGSL `volfog::types::ShadowCascades`).
 #[derive(Debug, Clone, Copy, PartialEq, Default, ShaderType)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct ShadowCascades {
     /// World -> light clip space per cascade.
     pub light_from_world: [Mat4; limits::MAX_CASCADES],

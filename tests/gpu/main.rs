@@ -11,6 +11,7 @@ mod forward_snippet;
 mod height_fog;
 mod hull;
 mod inject;
+mod js_host;
 mod lightning;
 mod noise;
 mod phase;

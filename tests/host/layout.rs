@@ -258,3 +258,52 @@ fn uniform_structs_match_wgsl_layouts() {
         );
     }
 }
+
+/// With the `serde` feature each struct serializes with its WGSL member names (the
+/// names a host in another language finds in the manifest), nested structs as objects.
+#[test]
+fn uniform_structs_serialize_with_wgsl_member_names() {
+    use uniforms::*;
+    fn keys<T: serde::Serialize>(value: T) -> Vec<String> {
+        let mut keys: Vec<String> = match serde_json::to_value(value).unwrap() {
+            serde_json::Value::Object(map) => map.keys().cloned().collect(),
+            other => panic!("not an object: {other}"),
+        };
+        keys.sort();
+        keys
+    }
+    let rust = BTreeMap::from([
+        ("FogHull", keys(FogHull::default())),
+        ("HeightFog", keys(HeightFog::default())),
+        ("FogVolume", keys(FogVolume::default())),
+        ("FogFrame", keys(FogFrame::default())),
+        ("HistoryState", keys(HistoryState::default())),
+        ("FogView", keys(FogView::default())),
+        ("FogMedium", keys(FogMedium::default())),
+        ("LocalVolume", keys(LocalVolume::default())),
+        ("DirectionalLight", keys(DirectionalLight::default())),
+        ("FogLight", keys(FogLight::default())),
+        ("FogLighting", keys(FogLighting::default())),
+        ("ShadowCascades", keys(ShadowCascades::default())),
+        ("Froxels", keys(Froxels::default())),
+    ]);
+    let wgsl = wgsl_layouts();
+    assert_eq!(
+        rust.keys().collect::<Vec<_>>(),
+        wgsl.keys()
+            .map(String::as_str)
+            .collect::<Vec<_>>()
+            .iter()
+            .collect::<Vec<_>>(),
+        "every WGSL struct has a serialized twin"
+    );
+    for (name, (members, _)) in &wgsl {
+        let mut want: Vec<String> = members.iter().map(|(n, _, _)| n.clone()).collect();
+        want.sort();
+        assert_eq!(rust[name.as_str()], want, "{name}");
+    }
+    let light = serde_json::to_value(FogLighting::default()).unwrap();
+    assert!(light["sun"].is_object(), "nested struct as an object");
+    let froxels = serde_json::to_value(Froxels::default()).unwrap();
+    assert_eq!(froxels["clip_from_view"].as_array().unwrap().len(), 16);
+}

@@ -1,7 +1,8 @@
 //! The independent compilers the tests run, built under `target/tools`: Slang's HLSL
 //! front end (`slang_check`, over the compiler library of the `slangpy` wheel in a
 //! private venv), Mesa's OpenGL 4.5 driver (`gl_link`) and Dawn/Tint (the npm package
-//! `webgpu`, installed next to `tools/dawn/dawn_check.mjs`).
+//! `webgpu`, installed next to `tools/dawn/dawn_check.mjs` and next to the JavaScript
+//! host example in `examples/webgpu-node`).
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -81,13 +82,19 @@ fn gl(dir: &Path) {
     }
 }
 
+/// Dawn for `tools/dawn/dawn_check.mjs` and for the JavaScript host example, each
+/// from its own lock file (npm's cache downloads the package once).
 fn dawn() {
-    let source = root().join("tools/dawn");
-    let installed = std::fs::read_to_string(source.join("node_modules/webgpu/package.json"))
-        .map(|s| s.contains(WEBGPU_VERSION))
-        .unwrap_or(false);
-    if !installed {
-        run(&mut Command::new(source.join("install.sh")));
+    for folder in ["tools/dawn", "examples/webgpu-node"] {
+        let dir = root().join(folder);
+        let installed = std::fs::read_to_string(dir.join("node_modules/webgpu/package.json"))
+            .map(|s| s.contains(WEBGPU_VERSION))
+            .unwrap_or(false);
+        if !installed {
+            run(Command::new("npm")
+                .args(["ci", "--ignore-scripts", "--no-audit", "--no-fund"])
+                .current_dir(&dir));
+        }
     }
 }
 

@@ -16,6 +16,7 @@ use crate::uniforms::{
 /// [`VolumetricFog::prepare`](super::VolumetricFog::prepare) uploads (the light and
 /// local volume arrays aside).
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct FrameUniforms {
     /// Froxel placement (from the projection and the configuration).
     pub froxels: Froxels,
