@@ -7,7 +7,10 @@ use volfog::cpu::froxel::froxel_jitter;
 use volfog::pipeline::{
     FogConfig, FrameInputs, FrameUniforms, VolumetricFog, cascade_projection, cascade_splits,
 };
-use volfog::uniforms::{FogFrame, FogLighting, FogMedium, FogView, Froxels, ShadowCascades};
+use volfog::uniforms::{
+    FogFrame, FogLight, FogLighting, FogMedium, FogView, Froxels, LocalVolume, ShadowCascades,
+    VolumeShape,
+};
 
 use crate::gpu::Gpu;
 
@@ -20,6 +23,75 @@ pub struct Slab {
     pub z: (f32, f32),
     /// Height of the top face (m).
     pub top: f32,
+}
+
+/// The slab the scene's sun shadows: under it, x in [-12, 8] m, z in [-40, -8] m.
+pub const SLAB: Slab = Slab {
+    x: (-12.0, 8.0),
+    z: (-40.0, -8.0),
+    top: 7.0,
+};
+
+/// The scene's lights in front of the camera: a warm point light, a blue spot light
+/// pointing down and a bright point light 200 m away (outside every froxel's range).
+pub fn lights() -> [FogLight; 3] {
+    [
+        FogLight::point(
+            Vec3::new(-2.0, 2.0, -12.0),
+            Vec3::new(30.0, 20.0, 10.0),
+            12.0,
+        ),
+        FogLight::spot(
+            Vec3::new(3.0, 6.0, -20.0),
+            Vec3::new(0.0, -1.0, 0.2),
+            Vec3::new(10.0, 40.0, 60.0),
+            20.0,
+            0.3,
+            0.5,
+        ),
+        FogLight::point(Vec3::new(200.0, 0.0, 0.0), Vec3::splat(1000.0), 5.0),
+    ]
+}
+
+/// The scene's local volumes: a denser rotated box and a thinning ellipsoid.
+pub fn local_volumes() -> [LocalVolume; 2] {
+    [
+        LocalVolume::new(
+            Mat4::from_scale_rotation_translation(
+                Vec3::new(4.0, 2.0, 3.0),
+                glam::Quat::from_rotation_y(0.4),
+                Vec3::new(1.0, 1.0, -15.0),
+            ),
+            VolumeShape::Box,
+            0.2,
+            0.3,
+        )
+        .expect("a valid volume"),
+        LocalVolume::new(
+            Mat4::from_scale_rotation_translation(
+                Vec3::splat(5.0),
+                glam::Quat::IDENTITY,
+                Vec3::new(-3.0, 3.0, -25.0),
+            ),
+            VolumeShape::Ellipsoid,
+            -0.02,
+            0.5,
+        )
+        .expect("a valid volume"),
+    ]
+}
+
+/// The scene's medium: 0.03/m at the ground, falling with height, noisy, forward
+/// scattering.
+pub fn medium() -> FogMedium {
+    FogMedium {
+        density: 0.03,
+        height_falloff: 0.08,
+        noise_strength: 0.8,
+        noise_scale: 0.3,
+        phase_g: 0.5,
+        ..FogMedium::default()
+    }
 }
 
 /// The scene's projection: 60 degrees vertical, 16:9, standard depth, 0.1..500 m.

@@ -12,9 +12,7 @@ use volfog::cpu;
 use volfog::cpu::ambient::AmbientSh;
 use volfog::cpu::inject::{InjectInputs, froxel_scattering, froxel_world_position};
 use volfog::pipeline::{FrameInputs, VolumetricFog};
-use volfog::uniforms::{
-    DirectionalLight, FogLight, FogMedium, LocalVolume, ShadowCascades, VolumeShape,
-};
+use volfog::uniforms::{DirectionalLight, FogLight, FogMedium, ShadowCascades};
 
 #[test]
 fn inject_matches_cpu_mirror_for_a_full_scene() {
@@ -32,61 +30,11 @@ fn inject_matches_cpu_mirror_for_a_full_scene() {
             noise_octaves: octaves,
             ..small_config()
         };
-        let slab = Slab {
-            x: (-12.0, 8.0),
-            z: (-40.0, -8.0),
-            top: 7.0,
-        };
-        let (cascades, depth_layers) = overhead_sun(&config, Some(slab));
+        let (cascades, depth_layers) = overhead_sun(&config, Some(SLAB));
         let shadow = shadow_map(gpu, &depth_layers);
-        let lights = [
-            FogLight::point(
-                Vec3::new(-2.0, 2.0, -12.0),
-                Vec3::new(30.0, 20.0, 10.0),
-                12.0,
-            ),
-            FogLight::spot(
-                Vec3::new(3.0, 6.0, -20.0),
-                Vec3::new(0.0, -1.0, 0.2),
-                Vec3::new(10.0, 40.0, 60.0),
-                20.0,
-                0.3,
-                0.5,
-            ),
-            FogLight::point(Vec3::new(200.0, 0.0, 0.0), Vec3::splat(1000.0), 5.0),
-        ];
-        let volumes = [
-            LocalVolume::new(
-                Mat4::from_scale_rotation_translation(
-                    Vec3::new(4.0, 2.0, 3.0),
-                    glam::Quat::from_rotation_y(0.4),
-                    Vec3::new(1.0, 1.0, -15.0),
-                ),
-                VolumeShape::Box,
-                0.2,
-                0.3,
-            )
-            .unwrap(),
-            LocalVolume::new(
-                Mat4::from_scale_rotation_translation(
-                    Vec3::splat(5.0),
-                    glam::Quat::IDENTITY,
-                    Vec3::new(-3.0, 3.0, -25.0),
-                ),
-                VolumeShape::Ellipsoid,
-                -0.02,
-                0.5,
-            )
-            .unwrap(),
-        ];
-        let medium = FogMedium {
-            density: 0.03,
-            height_falloff: 0.08,
-            noise_strength: 0.8,
-            noise_scale: 0.3,
-            phase_g: 0.5,
-            ..FogMedium::default()
-        };
+        let lights = lights();
+        let volumes = local_volumes();
+        let medium = medium();
         let mut fog = VolumetricFog::new(&gpu.device, &config).unwrap();
         fog.set_shadow_map(&gpu.device, &shadow).unwrap();
         let frame_inputs = |f: u32| FrameInputs {

@@ -9,18 +9,17 @@
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-use glam::{Mat4, Quat, Vec3, Vec4};
+use glam::{Vec3, Vec4};
 use serde_json::json;
 use volfog::cpu::ambient::AmbientSh;
 use volfog::pipeline::{FogConfig, FrameInputs, VolumetricFog};
-use volfog::uniforms::{
-    DirectionalLight, FogLight, FogMedium, HeightFog, LocalVolume, VolumeShape,
-};
+use volfog::uniforms::{DirectionalLight, HeightFog};
 use volfog_codegen::Target;
 use volfog_codegen::export::{ExportRequest, export};
 use volfog_codegen::reflect::HlslSamplers;
 use volfog_testkit::scene::{
-    Slab, overhead_sun, projection, read_esm, read_volume, shadow_map, small_config, view,
+    SLAB, lights, local_volumes, medium, overhead_sun, projection, read_esm, read_volume,
+    shadow_map, small_config, view,
 };
 
 use crate::common::gpu;
@@ -72,46 +71,10 @@ fn the_js_host_runs_the_export_and_matches_the_rust_pipeline() {
     assert!(config.scan_step.defines().is_empty());
     assert!(config.apply_filtering.defines().is_empty());
 
-    let slab = Slab {
-        x: (-12.0, 8.0),
-        z: (-40.0, -8.0),
-        top: 7.0,
-    };
-    let (cascades, depth_layers) = overhead_sun(&config, Some(slab));
-    let lights = [
-        FogLight::point(
-            Vec3::new(-2.0, 2.0, -12.0),
-            Vec3::new(30.0, 20.0, 10.0),
-            12.0,
-        ),
-        FogLight::spot(
-            Vec3::new(3.0, 6.0, -20.0),
-            Vec3::new(0.0, -1.0, 0.2),
-            Vec3::new(10.0, 40.0, 60.0),
-            20.0,
-            0.3,
-            0.5,
-        ),
-    ];
-    let volumes = [LocalVolume::new(
-        Mat4::from_scale_rotation_translation(
-            Vec3::new(4.0, 2.0, 3.0),
-            Quat::from_rotation_y(0.4),
-            Vec3::new(1.0, 1.0, -15.0),
-        ),
-        VolumeShape::Box,
-        0.2,
-        0.3,
-    )
-    .unwrap()];
-    let medium = FogMedium {
-        density: 0.03,
-        height_falloff: 0.08,
-        noise_strength: 0.8,
-        noise_scale: 0.3,
-        phase_g: 0.5,
-        ..FogMedium::default()
-    };
+    let (cascades, depth_layers) = overhead_sun(&config, Some(SLAB));
+    let lights = lights();
+    let volumes = local_volumes();
+    let medium = medium();
     let inputs = FrameInputs {
         medium,
         sun: DirectionalLight {

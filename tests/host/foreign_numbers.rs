@@ -131,22 +131,11 @@ impl Case {
     /// What the hosts write, from the CPU mirror.
     fn want(&self) -> [f32; OUT_VEC4 * 4] {
         let (c, g, f) = (self.cos_theta, self.g, &self.fog);
-        let od = height_fog::height_fog_optical_depth(
-            f.density,
-            f.falloff,
-            f.base_height,
-            f.up,
-            self.origin,
-            self.segment,
-        );
-        let t = height_fog::height_fog_transmittance(
-            f.density,
-            f.falloff,
-            f.base_height,
-            f.up,
-            self.origin,
-            self.segment,
-        );
+        let (o, s) = (self.origin, self.segment);
+        let od =
+            height_fog::height_fog_optical_depth(f.density, f.falloff, f.base_height, f.up, o, s);
+        let t =
+            height_fog::height_fog_transmittance(f.density, f.falloff, f.base_height, f.up, o, s);
         let (a, i) = (self.attenuation, self.intensity);
         let out = [
             Vec4::new(
