@@ -57,7 +57,7 @@ enum Command {
         /// naga's sampler `heap` (wgpu's Direct3D 12 layout).
         #[arg(long, value_enum, default_value_t = HlslSamplersArg::Classic)]
         hlsl_samplers: HlslSamplersArg,
-        /// Also write the include snippets into DIR/<target>/include: every one, or
+        /// Also write the include snippets into `DIR/<target>/include`: every one, or
         /// those named (apply, height_fog, fog_volume, lightning, soft_particles,
         /// phase, all).
         #[arg(long, num_args = 0.., value_delimiter = ',')]

@@ -192,7 +192,7 @@ impl Blend {
     };
 }
 
-/// Everything [`Validator::graphics_pipeline`] needs. The topology is a triangle list, there is
+/// Everything [`Validator::graphics_pipeline`](crate::Validator::graphics_pipeline) needs. The topology is a triangle list, there is
 /// one colour attachment and no depth/stencil; viewport and scissor are dynamic.
 #[derive(Clone, Debug)]
 pub struct GraphicsDesc<'a> {

@@ -69,7 +69,7 @@ pub enum VkError {
         /// Validation messages captured during the whole operation.
         messages: Vec<String>,
     },
-    /// The words are not usable SPIR-V (see [`local_size`]).
+    /// The words are not usable SPIR-V (see [`local_size`](crate::local_size)).
     #[error("SPIR-V: {0}")]
     Spirv(String),
     /// An argument cannot be passed to Vulkan (entry name with a NUL, too many workgroups, …).

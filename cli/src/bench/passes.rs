@@ -1,0 +1,322 @@
+//! What the bench times besides the fog: timestamp pairs, the screens (a camera with
+//! its apply target), and the floors the fog passes are compared with (a volume copy,
+//! a fullscreen blit).
+
+use super::*;
+
+/// Timestamp queries of the bench's own passes (begin/end pair per pass).
+pub(super) struct Timer {
+    pub(super) pairs: TimestampPairs,
+}
+
+impl Timer {
+    pub(super) fn new(gpu: &Gpu, pairs: u32) -> Self {
+        Self {
+            pairs: TimestampPairs::new(&gpu.device, "bench timestamps", pairs),
+        }
+    }
+
+    pub(super) fn compute(&self, pass: u32) -> Option<wgpu::ComputePassTimestampWrites<'_>> {
+        Some(self.pairs.compute(pass))
+    }
+
+    pub(super) fn render(&self, pass: u32) -> Option<wgpu::RenderPassTimestampWrites<'_>> {
+        Some(self.pairs.render(pass, true, true))
+    }
+
+    /// Records one pass with `record` (which uses the timestamp writes of `slot`),
+    /// submits it alone and returns its time by both clocks.
+    pub(super) fn run(
+        &self,
+        gpu: &Gpu,
+        slot: u32,
+        record: impl FnOnce(&mut wgpu::CommandEncoder),
+    ) -> Result<Sample, BenchError> {
+        let mut encoder = gpu.device.create_command_encoder(&Default::default());
+        record(&mut encoder);
+        self.pairs.resolve(&mut encoder);
+        let cpu = submit_and_wait(gpu, encoder.finish())?;
+        let gpu_ms = self
+            .pairs
+            .read_ms(&gpu.device, &gpu.queue)
+            .map_err(|e| BenchError::Readback(e.to_string()))?[slot as usize];
+        Ok(Sample { gpu: gpu_ms, cpu })
+    }
+}
+
+pub(super) fn texture_2d(
+    gpu: &Gpu,
+    label: &str,
+    (width, height): (u32, u32),
+    format: wgpu::TextureFormat,
+    usage: wgpu::TextureUsages,
+) -> wgpu::Texture {
+    gpu.device.create_texture(&wgpu::TextureDescriptor {
+        label: Some(label),
+        size: wgpu::Extent3d {
+            width,
+            height,
+            depth_or_array_layers: 1,
+        },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format,
+        usage,
+        view_formats: &[],
+    })
+}
+
+pub(super) fn depth_view(texture: &wgpu::Texture) -> wgpu::TextureView {
+    texture.create_view(&wgpu::TextureViewDescriptor {
+        aspect: wgpu::TextureAspect::DepthOnly,
+        ..Default::default()
+    })
+}
+
+/// One screen the froxel pipeline is applied to: its `VolumetricFog`, apply pass,
+/// depth group and colour target.
+pub(super) struct Screen {
+    pub(super) fog: VolumetricFog,
+    pub(super) apply: ApplyPipeline,
+    pub(super) depth: wgpu::TextureView,
+    pub(super) depth_group: wgpu::BindGroup,
+    pub(super) color: wgpu::TextureView,
+}
+
+impl Screen {
+    pub(super) fn new(
+        gpu: &Gpu,
+        scene: &Scene,
+        config: &FogConfig,
+        shadow_map: &wgpu::Texture,
+        size: (u32, u32),
+    ) -> Result<Self, BenchError> {
+        let mut fog = VolumetricFog::new(&gpu.device, config)?;
+        fog.set_shadow_map(&gpu.device, shadow_map)?;
+        let apply = fog.create_apply(&gpu.device, COLOR_FORMAT)?;
+        let depth = volfog_testkit::selfcheck::depth_texture(
+            gpu,
+            size.0,
+            size.1,
+            &scene.depth_buffer(size.0, size.1),
+        )?;
+        let depth = depth_view(&depth);
+        let depth_group = apply.depth_bind_group(&gpu.device, &depth);
+        let color = texture_2d(
+            gpu,
+            "bench colour",
+            size,
+            COLOR_FORMAT,
+            wgpu::TextureUsages::RENDER_ATTACHMENT,
+        );
+        Ok(Self {
+            fog,
+            apply,
+            depth,
+            depth_group,
+            color: color.create_view(&Default::default()),
+        })
+    }
+
+    /// Runs one frame, each pass (and the apply) submitted alone; returns its pass
+    /// timings by both clocks.
+    pub(super) fn frame(&mut self, gpu: &Gpu) -> Result<(PassTimings, PassTimings), BenchError> {
+        let mut gpu_ms = [0.0; 6];
+        let mut wall_ms = [0.0; 6];
+        let passes = FogPass::ALL.map(Some).into_iter().chain([None]);
+        for (i, pass) in passes.enumerate() {
+            let mut encoder = gpu.device.create_command_encoder(&Default::default());
+            match pass {
+                Some(pass) => self.fog.encode_pass(&mut encoder, pass)?,
+                None => self.fog.record_apply(
+                    &mut encoder,
+                    &self.apply,
+                    &self.color,
+                    &self.depth_group,
+                )?,
+            }
+            self.fog.resolve_timestamps(&mut encoder);
+            wall_ms[i] = submit_and_wait(gpu, encoder.finish())?;
+            let t = self
+                .fog
+                .read_timings(&gpu.device, &gpu.queue)
+                .ok_or_else(|| BenchError::Readback("VolumetricFog::read_timings".to_string()))?;
+            gpu_ms[i] = [
+                t.esm_downsample,
+                t.esm_blur,
+                t.inject,
+                t.temporal,
+                t.scan,
+                t.apply,
+            ][i];
+        }
+        let timings = |ms: [f64; 6]| PassTimings {
+            esm_downsample: ms[0],
+            esm_blur: ms[1],
+            inject: ms[2],
+            temporal: ms[3],
+            scan: ms[4],
+            apply: ms[5],
+        };
+        Ok((timings(gpu_ms), timings(wall_ms)))
+    }
+}
+
+/// The plain volume copy (bandwidth floor of the scan).
+pub(super) struct CopyPass {
+    pub(super) pipeline: wgpu::ComputePipeline,
+    pub(super) group: wgpu::BindGroup,
+    pub(super) size: [u32; 3],
+}
+
+impl CopyPass {
+    pub(super) fn new(gpu: &Gpu, source: &wgpu::Texture) -> Result<Self, BenchError> {
+        let module = raymarch::shader_module(
+            &gpu.device,
+            include_str!("copy.wgsl"),
+            "cli/src/bench/copy.wgsl",
+            &[],
+        )?;
+        let pipeline = gpu
+            .device
+            .create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                label: Some("bench copy_volume"),
+                layout: None,
+                module: &module,
+                entry_point: Some("copy_volume"),
+                compilation_options: Default::default(),
+                cache: None,
+            });
+        let s = source.size();
+        let destination = gpu.device.create_texture(&wgpu::TextureDescriptor {
+            label: Some("bench copy destination"),
+            size: s,
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D3,
+            format: source.format(),
+            usage: wgpu::TextureUsages::STORAGE_BINDING,
+            view_formats: &[],
+        });
+        let group = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("bench copy_volume"),
+            layout: &pipeline.get_bind_group_layout(0),
+            entries: &[
+                wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: wgpu::BindingResource::TextureView(
+                        &source.create_view(&Default::default()),
+                    ),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 1,
+                    resource: wgpu::BindingResource::TextureView(
+                        &destination.create_view(&Default::default()),
+                    ),
+                },
+            ],
+        });
+        Ok(Self {
+            pipeline,
+            group,
+            size: [s.width, s.height, s.depth_or_array_layers],
+        })
+    }
+
+    pub(super) fn encode(&self, encoder: &mut wgpu::CommandEncoder, timer: &Timer, slot: u32) {
+        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some("bench copy_volume"),
+            timestamp_writes: timer.compute(slot),
+        });
+        pass.set_pipeline(&self.pipeline);
+        pass.set_bind_group(0, &self.group, &[]);
+        pass.dispatch_workgroups(self.size[0].div_ceil(8), self.size[1].div_ceil(8), 1);
+    }
+}
+
+/// The plain fullscreen blit (floor of the apply pass).
+pub(super) struct BlitPass {
+    pub(super) pipeline: wgpu::RenderPipeline,
+    pub(super) group: wgpu::BindGroup,
+    pub(super) target: wgpu::TextureView,
+}
+
+impl BlitPass {
+    pub(super) fn new(
+        gpu: &Gpu,
+        size: (u32, u32),
+        format: wgpu::TextureFormat,
+    ) -> Result<Self, BenchError> {
+        let module = raymarch::shader_module(
+            &gpu.device,
+            include_str!("blit.wgsl"),
+            "cli/src/bench/blit.wgsl",
+            &[],
+        )?;
+        let layout = gpu
+            .device
+            .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                label: Some("bench blit"),
+                entries: &[wgpu::BindGroupLayoutEntry {
+                    binding: 0,
+                    visibility: wgpu::ShaderStages::FRAGMENT,
+                    ty: wgpu::BindingType::Texture {
+                        sample_type: wgpu::TextureSampleType::Float { filterable: false },
+                        view_dimension: wgpu::TextureViewDimension::D2,
+                        multisampled: false,
+                    },
+                    count: None,
+                }],
+            });
+        let pipeline = raymarch::fullscreen_pipeline(
+            &gpu.device,
+            "bench blit",
+            &module,
+            ("blit_vs", "blit_fs"),
+            &layout,
+            wgpu::ColorTargetState {
+                format,
+                blend: None,
+                write_mask: wgpu::ColorWrites::ALL,
+            },
+        );
+        let source = texture_2d(
+            gpu,
+            "bench blit source",
+            size,
+            format,
+            wgpu::TextureUsages::TEXTURE_BINDING,
+        );
+        let target = texture_2d(
+            gpu,
+            "bench blit target",
+            size,
+            format,
+            wgpu::TextureUsages::RENDER_ATTACHMENT,
+        );
+        let group = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("bench blit"),
+            layout: &layout,
+            entries: &[wgpu::BindGroupEntry {
+                binding: 0,
+                resource: wgpu::BindingResource::TextureView(
+                    &source.create_view(&Default::default()),
+                ),
+            }],
+        });
+        Ok(Self {
+            pipeline,
+            group,
+            target: target.create_view(&Default::default()),
+        })
+    }
+
+    pub(super) fn encode(&self, encoder: &mut wgpu::CommandEncoder, timer: &Timer, slot: u32) {
+        let mut pass =
+            raymarch::fullscreen_pass(encoder, "bench blit", &self.target, timer.render(slot));
+        pass.set_pipeline(&self.pipeline);
+        pass.set_bind_group(0, &self.group, &[]);
+        pass.draw(0..3, 0..1);
+    }
+}

@@ -1,0 +1,309 @@
+//! The bench report: statistics per series, the ratios against their targets, memory,
+//! the settings of the run, and the printed table.
+
+use super::*;
+
+/// Statistics of one measured series, in milliseconds.
+#[derive(Debug, Clone, Serialize)]
+pub struct Stats {
+    /// What was measured.
+    pub label: String,
+    /// Median.
+    pub median_ms: f64,
+    /// Smallest sample.
+    pub min_ms: f64,
+    /// Largest sample.
+    pub max_ms: f64,
+    /// 10th percentile (linear interpolation between ranks).
+    pub p10_ms: f64,
+    /// 90th percentile.
+    pub p90_ms: f64,
+    /// Every sample, in frame order.
+    pub samples_ms: Vec<f64>,
+    /// Median by the other clock (GPU timestamps when the table uses wall time, and
+    /// the reverse), for comparison.
+    pub other_clock_median_ms: f64,
+}
+
+impl Stats {
+    pub(super) fn new(label: &str, samples: &[f64]) -> Self {
+        let mut sorted = samples.to_vec();
+        sorted.sort_by(f64::total_cmp);
+        let at = |p: f64| {
+            if sorted.is_empty() {
+                return f64::NAN;
+            }
+            let rank = p * (sorted.len() - 1) as f64;
+            let (lo, hi) = (rank.floor() as usize, rank.ceil() as usize);
+            sorted[lo] + (sorted[hi] - sorted[lo]) * (rank - lo as f64)
+        };
+        Self {
+            label: label.to_string(),
+            median_ms: at(0.5),
+            min_ms: at(0.0),
+            max_ms: at(1.0),
+            p10_ms: at(0.1),
+            p90_ms: at(0.9),
+            samples_ms: samples.to_vec(),
+            other_clock_median_ms: f64::NAN,
+        }
+    }
+}
+
+/// A ratio of medians and its target.
+#[derive(Debug, Clone, Serialize)]
+pub struct Ratio {
+    /// What is divided by what.
+    pub definition: &'static str,
+    /// The ratio.
+    pub value: f64,
+    /// The target, e.g. "<= 1.25".
+    pub target: String,
+    /// Whether the target is met.
+    pub met: bool,
+}
+
+impl Ratio {
+    pub(super) fn at_most(definition: &'static str, value: f64, limit: f64) -> Self {
+        Self {
+            definition,
+            value,
+            target: format!("<= {limit}"),
+            met: value <= limit,
+        }
+    }
+
+    pub(super) fn at_least(definition: &'static str, value: f64, limit: f64) -> Self {
+        Self {
+            definition,
+            value,
+            target: format!(">= {limit}"),
+            met: value >= limit,
+        }
+    }
+}
+
+/// The four ratios.
+#[derive(Debug, Clone, Serialize)]
+pub struct Ratios {
+    /// Scan / copy of the same volume.
+    pub scan_vs_copy: Ratio,
+    /// Apply / blit at 1080p.
+    pub apply_vs_blit: Ratio,
+    /// Raymarch / froxel pipeline at 1080p (how many times faster the froxels are).
+    pub raymarch_vs_froxel: Ratio,
+    /// Froxel pipeline behind a 4K camera / behind a 720p camera.
+    pub froxel_4k_vs_720p: Ratio,
+}
+
+/// GPU memory of `VolumetricFog` at the default configuration.
+#[derive(Debug, Clone, Serialize)]
+pub struct Memory {
+    /// `VolumetricFog::memory_bytes()`.
+    pub bytes: u64,
+    /// The same in MiB.
+    pub mib: f64,
+    /// The limit (MiB).
+    pub limit_mib: f64,
+    /// Whether it stays within the limit.
+    pub met: bool,
+}
+
+/// What was run.
+#[derive(Debug, Clone, Serialize)]
+pub struct Settings {
+    /// Froxels (x, y, slices).
+    pub volume: [u32; 3],
+    /// Volume texel format.
+    pub volume_format: &'static str,
+    /// Screen of apply, blit and raymarch.
+    pub screen: [u32; 2],
+    /// The two cameras of the screen-independence comparison.
+    pub compared_screens: [[u32; 2]; 2],
+    /// Samples per pixel of the raymarch.
+    pub raymarch_steps: u32,
+    /// Warm-up frames.
+    pub warmup: u32,
+    /// Measured frames.
+    pub frames: u32,
+    /// Measured frames that include the raymarch.
+    pub raymarch_frames: u32,
+}
+
+/// The JSON report.
+#[derive(Debug, Clone, Serialize)]
+pub struct Report {
+    /// Adapter name.
+    pub adapter: String,
+    /// Adapter, driver and backend.
+    pub adapter_details: String,
+    /// The clock of every figure.
+    pub clock: Clock,
+    /// What was run.
+    pub settings: Settings,
+    /// Every series, by key.
+    pub passes: std::collections::BTreeMap<String, Stats>,
+    /// The ratios and their targets.
+    pub ratios: Ratios,
+    /// Memory of the default configuration.
+    pub memory: Memory,
+    /// Wall-clock time of the whole run, seconds.
+    pub wall_seconds: f64,
+}
+
+/// The report of a run: statistics per series, ratios and memory.
+pub(super) fn summarize(
+    gpu: &Gpu,
+    clock: Clock,
+    plan: &Plan,
+    config: &FogConfig,
+    samples: &std::collections::BTreeMap<&str, Vec<Sample>>,
+    memory_bytes: u64,
+    start: Instant,
+) -> Report {
+    let series = |k: &str, c: Clock| -> Vec<f64> {
+        samples[k]
+            .iter()
+            .map(|s| match c {
+                Clock::GpuTimestamps => s.gpu,
+                Clock::CpuWallPerSubmission => s.cpu,
+            })
+            .collect()
+    };
+    let other = match clock {
+        Clock::GpuTimestamps => Clock::CpuWallPerSubmission,
+        Clock::CpuWallPerSubmission => Clock::GpuTimestamps,
+    };
+    let passes: std::collections::BTreeMap<String, Stats> = SERIES
+        .iter()
+        .map(|(k, label)| {
+            let mut stats = Stats::new(label, &series(k, clock));
+            stats.other_clock_median_ms = Stats::new(label, &series(k, other)).median_ms;
+            (k.to_string(), stats)
+        })
+        .collect();
+    let median = |k: &str| passes[k].median_ms;
+    let ratios = Ratios {
+        scan_vs_copy: Ratio::at_most(
+            "median scan / median copy",
+            median("scan") / median("copy"),
+            TARGET_SCAN,
+        ),
+        apply_vs_blit: Ratio::at_most(
+            "median apply / median blit (1920x1080)",
+            median("apply_1080p") / median("blit_1080p"),
+            TARGET_APPLY,
+        ),
+        raymarch_vs_froxel: Ratio::at_least(
+            "median raymarch / median (inject + temporal + scan + apply), 1080p",
+            median("raymarch_1080p") / median("froxel_1080p"),
+            TARGET_SPEEDUP,
+        ),
+        froxel_4k_vs_720p: Ratio::at_most(
+            "median (inject + temporal + scan) behind a 3840x2160 / a 1280x720 camera",
+            median("froxel_4k") / median("froxel_720p"),
+            TARGET_SCREEN,
+        ),
+    };
+    let mib = memory_bytes as f64 / (1024.0 * 1024.0);
+    Report {
+        adapter: gpu.info.name.clone(),
+        adapter_details: gpu.describe(),
+        clock,
+        settings: Settings {
+            volume: config.volume_size.to_array(),
+            volume_format: "rgba16float",
+            screen: [SCREEN.0, SCREEN.1],
+            compared_screens: [
+                [SMALL_SCREEN.0, SMALL_SCREEN.1],
+                [LARGE_SCREEN.0, LARGE_SCREEN.1],
+            ],
+            raymarch_steps: RAYMARCH_STEPS,
+            warmup: plan.warmup,
+            frames: plan.frames,
+            raymarch_frames: plan.raymarch_frames,
+        },
+        passes,
+        ratios,
+        memory: Memory {
+            bytes: memory_bytes,
+            mib,
+            limit_mib: TARGET_MEMORY_MIB,
+            met: mib <= TARGET_MEMORY_MIB,
+        },
+        wall_seconds: start.elapsed().as_secs_f64(),
+    }
+}
+
+pub(super) fn status(met: bool) -> &'static str {
+    if met { "met" } else { "MISSED" }
+}
+
+/// The report as a text table.
+pub fn table(report: &Report) -> String {
+    use std::fmt::Write;
+    let mut out = String::new();
+    let _ = writeln!(out, "\nadapter: {}", report.adapter_details);
+    let _ = writeln!(out, "clock: {}", report.clock.describe());
+    let _ = writeln!(
+        out,
+        "{:<30} {:>10} {:>10} {:>10}",
+        "pass", "median ms", "min ms", "max ms"
+    );
+    for (key, _) in SERIES {
+        let s = &report.passes[*key];
+        let _ = writeln!(
+            out,
+            "{:<30} {:>10.3} {:>10.3} {:>10.3}",
+            s.label, s.median_ms, s.min_ms, s.max_ms
+        );
+    }
+    let _ = writeln!(
+        out,
+        "  * inject + temporal + scan + apply (ESM passes excluded: the raymarch uses the same ESM)"
+    );
+    let _ = writeln!(out, "  ** inject + temporal + scan, apply excluded");
+    let _ = writeln!(
+        out,
+        "\n{:<36} {:>10} {:>10}  status",
+        "ratio (of medians)", "value", "target"
+    );
+    let r = &report.ratios;
+    for (name, ratio) in [
+        ("scan / copy", &r.scan_vs_copy),
+        ("apply / blit", &r.apply_vs_blit),
+        (
+            "raymarch / froxel pipeline (speed-up)",
+            &r.raymarch_vs_froxel,
+        ),
+        ("froxel cost 4K / 720p camera", &r.froxel_4k_vs_720p),
+    ] {
+        let _ = writeln!(
+            out,
+            "{:<36} {:>9.3}x {:>10}  {}",
+            name,
+            ratio.value,
+            ratio.target,
+            status(ratio.met)
+        );
+    }
+    let m = &report.memory;
+    let _ = writeln!(
+        out,
+        "{:<36} {:>6.2} MiB {:>6} MiB  {} ({} bytes)",
+        "VolumetricFog::memory_bytes (default)",
+        m.mib,
+        format!("<= {}", m.limit_mib),
+        status(m.met),
+        m.bytes
+    );
+    let _ = writeln!(
+        out,
+        "{} warm-up + {} measured frames ({} with the raymarch), wall time {:.1} s",
+        report.settings.warmup,
+        report.settings.frames,
+        report.settings.raymarch_frames,
+        report.wall_seconds
+    );
+    out
+}

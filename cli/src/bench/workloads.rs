@@ -1,0 +1,215 @@
+//! The series measured every frame and the workloads that produce them.
+
+use super::*;
+
+/// Series measured each frame, in table order: (key, label).
+pub(super) const SERIES: &[(&str, &str)] = &[
+    ("esm_downsample", "esm downsample (4 cascades)"),
+    ("esm_blur", "esm blur (x + y)"),
+    ("inject", "inject 160x90x128"),
+    ("temporal", "temporal 160x90x128"),
+    ("scan", "scan 160x90x128"),
+    ("copy", "copy 160x90x128 (floor)"),
+    ("apply_1080p", "apply 1920x1080"),
+    ("blit_1080p", "blit 1920x1080 (floor)"),
+    ("froxel_1080p", "froxel pipeline 1080p *"),
+    ("raymarch_1080p", "raymarch 1080p, 64 steps"),
+    ("froxel_720p", "froxel 720p camera **"),
+    ("froxel_4k", "froxel 4K camera **"),
+    ("apply_720p", "apply 1280x720"),
+    ("apply_4k", "apply 3840x2160"),
+];
+
+pub(super) fn froxel_cost(t: &PassTimings) -> f64 {
+    t.inject + t.temporal + t.scan
+}
+
+/// Frame counts of a run.
+#[derive(Debug, Clone, Copy)]
+pub(super) struct Plan {
+    pub(super) warmup: u32,
+    pub(super) frames: u32,
+    pub(super) raymarch_frames: u32,
+}
+
+impl Plan {
+    pub(super) fn new(args: &BenchArgs) -> Result<Self, BenchError> {
+        let pick = |given: Option<u32>, quick: u32, default: u32| {
+            given.unwrap_or(if args.quick { quick } else { default })
+        };
+        let frames = pick(args.frames, QUICK_FRAMES, DEFAULT_FRAMES);
+        if frames == 0 {
+            return Err(BenchError::NoFrames);
+        }
+        Ok(Self {
+            warmup: pick(args.warmup, QUICK_WARMUP, DEFAULT_WARMUP),
+            frames,
+            raymarch_frames: pick(
+                args.raymarch_frames,
+                QUICK_RAYMARCH_FRAMES,
+                DEFAULT_RAYMARCH_FRAMES,
+            )
+            .clamp(1, frames),
+        })
+    }
+
+    /// Whether frame `f` is measured, and whether it runs the raymarch (the last
+    /// warm-up frame and the first `raymarch_frames` measured ones).
+    pub(super) fn frame(&self, f: u32) -> (bool, bool) {
+        let measured = f >= self.warmup;
+        let raymarch = if measured {
+            f - self.warmup < self.raymarch_frames
+        } else {
+            f + 1 == self.warmup
+        };
+        (measured, raymarch)
+    }
+}
+
+/// Every workload of a frame, built once.
+pub(super) struct Workloads {
+    pub(super) config: FogConfig,
+    pub(super) scene: Scene,
+    pub(super) cascades: volfog::uniforms::ShadowCascades,
+    pub(super) main: Screen,
+    pub(super) small: Screen,
+    pub(super) large: Screen,
+    pub(super) copy: CopyPass,
+    pub(super) blit: BlitPass,
+    pub(super) reference: Raymarch,
+    pub(super) reference_group: wgpu::BindGroup,
+    pub(super) reference_target: wgpu::TextureView,
+    pub(super) timer: Timer,
+}
+
+impl Workloads {
+    pub(super) fn new(gpu: &Gpu) -> Result<Self, BenchError> {
+        let config = FogConfig {
+            timestamps: true,
+            ..FogConfig::default()
+        };
+        let scene = Scene::new();
+        eprintln!("preparing the scene (shadow cascades, depth buffers, pipelines)...");
+        let (cascades, layers) = scene.cascades(&config);
+        let shadow_size = config.esm_resolution * 4;
+        let layer_refs: Vec<&[f32]> = layers.iter().map(Vec::as_slice).collect();
+        let shadow_map = volfog_testkit::selfcheck::depth_array_texture(
+            gpu,
+            shadow_size,
+            shadow_size,
+            &layer_refs,
+        )?;
+        let main = Screen::new(gpu, &scene, &config, &shadow_map, SCREEN)?;
+        let small = Screen::new(gpu, &scene, &config, &shadow_map, SMALL_SCREEN)?;
+        let large = Screen::new(gpu, &scene, &config, &shadow_map, LARGE_SCREEN)?;
+        let copy = CopyPass::new(gpu, main.fog.scattering_texture())?;
+        let blit = BlitPass::new(gpu, SCREEN, COLOR_FORMAT)?;
+        let reference = Raymarch::new(
+            &gpu.device,
+            &RaymarchOptions {
+                steps: RAYMARCH_STEPS,
+                noise_octaves: config.noise_octaves,
+                color_format: COLOR_FORMAT,
+                max_lights: config.max_lights,
+                max_local_volumes: config.max_local_volumes,
+            },
+        )?;
+        let reference_target = texture_2d(
+            gpu,
+            "bench raymarch target",
+            SCREEN,
+            COLOR_FORMAT,
+            wgpu::TextureUsages::RENDER_ATTACHMENT,
+        )
+        .create_view(&Default::default());
+        let esm_view = main
+            .fog
+            .esm_texture()
+            .create_view(&wgpu::TextureViewDescriptor {
+                dimension: Some(wgpu::TextureViewDimension::D2Array),
+                ..Default::default()
+            });
+        let reference_group = reference.bind_group(&gpu.device, &esm_view, &main.depth);
+        Ok(Self {
+            config,
+            scene,
+            cascades,
+            main,
+            small,
+            large,
+            copy,
+            blit,
+            reference,
+            reference_group,
+            reference_target,
+            timer: Timer::new(gpu, 3),
+        })
+    }
+
+    /// Runs frame `f` and returns its samples by series key.
+    pub(super) fn frame(
+        &mut self,
+        gpu: &Gpu,
+        f: u32,
+        with_raymarch: bool,
+    ) -> Result<Vec<(&'static str, Sample)>, BenchError> {
+        let inputs = self.scene.inputs(f as f32 / 60.0, self.cascades);
+        for s in [&mut self.main, &mut self.small, &mut self.large] {
+            s.fog.prepare(&gpu.queue, &inputs)?;
+        }
+        let (tg, tc) = self.main.frame(gpu)?;
+        let timer = &self.timer;
+        let copy_t = timer.run(gpu, 0, |e| self.copy.encode(e, timer, 0))?;
+        let blit_t = timer.run(gpu, 1, |e| self.blit.encode(e, timer, 1))?;
+        let index = self.main.fog.frame_index().expect("prepared above");
+        let uniforms = inputs.uniforms(&self.config, index)?;
+        self.reference.upload(
+            &gpu.queue,
+            &uniforms,
+            &self.scene.lights,
+            &self.scene.local_volumes,
+        );
+        let raymarch_t = if with_raymarch {
+            Some(timer.run(gpu, 2, |e| {
+                self.reference.draw(
+                    e,
+                    &self.reference_target,
+                    &self.reference_group,
+                    timer.render(2),
+                )
+            })?)
+        } else {
+            None
+        };
+        // Alternate the order of the two cameras so that drift cancels.
+        let (ts, tl) = if f.is_multiple_of(2) {
+            let ts = self.small.frame(gpu)?;
+            (ts, self.large.frame(gpu)?)
+        } else {
+            let tl = self.large.frame(gpu)?;
+            (self.small.frame(gpu)?, tl)
+        };
+        let both = |pick: &dyn Fn(&PassTimings) -> f64, t: &(PassTimings, PassTimings)| Sample {
+            gpu: pick(&t.0),
+            cpu: pick(&t.1),
+        };
+        let main = (tg, tc);
+        let mut samples = vec![
+            ("esm_downsample", both(&|p| p.esm_downsample, &main)),
+            ("esm_blur", both(&|p| p.esm_blur, &main)),
+            ("inject", both(&|p| p.inject, &main)),
+            ("temporal", both(&|p| p.temporal, &main)),
+            ("scan", both(&|p| p.scan, &main)),
+            ("copy", copy_t),
+            ("apply_1080p", both(&|p| p.apply, &main)),
+            ("blit_1080p", blit_t),
+            ("froxel_1080p", both(&|p| froxel_cost(p) + p.apply, &main)),
+            ("froxel_720p", both(&froxel_cost, &ts)),
+            ("froxel_4k", both(&froxel_cost, &tl)),
+            ("apply_720p", both(&|p| p.apply, &ts)),
+            ("apply_4k", both(&|p| p.apply, &tl)),
+        ];
+        samples.extend(raymarch_t.map(|r| ("raymarch_1080p", r)));
+        Ok(samples)
+    }
+}
