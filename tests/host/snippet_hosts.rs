@@ -118,6 +118,10 @@ fn every_hlsl_snippet_compiles_in_slang() {
     assert!(failed.is_empty(), "{}", failed.join("\n"));
 }
 
+fn file_name(path: &Path) -> String {
+    path.file_name().unwrap().to_string_lossy().into_owned()
+}
+
 /// Pastes `#include "X"` files from `dir` in (OpenGL compiles no includes).
 fn paste_includes(text: &str, dir: &Path) -> String {
     text.lines()
@@ -159,13 +163,7 @@ fn every_glsl_snippet_compiles_in_glslang_and_links_in_mesa() {
                 .args(["-V", "--target-env", "vulkan1.1", "-S", stage])
                 .arg(format!("-I{}", include.display()))
                 .arg("-o")
-                .arg(
-                    h.file
-                        .with_extension(format!("{stage}.spv"))
-                        .file_name()
-                        .map(|f| dir.join(f))
-                        .unwrap(),
-                )
+                .arg(dir.join(format!("{}.spv", file_name(&h.file))))
                 .arg(&h.file),
         );
         if !o.status.success() {
@@ -173,10 +171,7 @@ fn every_glsl_snippet_compiles_in_glslang_and_links_in_mesa() {
         }
         // Mesa: compile and link as an OpenGL program, includes pasted in.
         let source = std::fs::read_to_string(&h.file).unwrap();
-        let pasted = dir.join(format!(
-            "gl_{}",
-            h.file.file_name().unwrap().to_string_lossy()
-        ));
+        let pasted = dir.join(format!("gl_{}", file_name(&h.file)));
         std::fs::write(&pasted, paste_includes(&source, &include)).unwrap();
         let o = output(gl_link().arg(format!("{stage}:{}", pasted.display())));
         if !o.status.success() {

@@ -162,18 +162,24 @@ pub(crate) fn check_shadow_map(
             "1".into(),
         ));
     }
-    if !texture
+    check_texture_binding(WHAT, texture)
+}
+
+/// Checks that a texture the fog samples was created with `TEXTURE_BINDING`.
+fn check_texture_binding(what: &'static str, texture: &wgpu::Texture) -> Result<(), FogError> {
+    if texture
         .usage()
         .contains(wgpu::TextureUsages::TEXTURE_BINDING)
     {
-        return Err(mismatch(
-            WHAT,
+        Ok(())
+    } else {
+        Err(mismatch(
+            what,
             "usage",
             texture.usage(),
             "TEXTURE_BINDING".into(),
-        ));
+        ))
     }
-    Ok(())
 }
 
 /// Checks a density texture: 3D, filterable on this device, usable as a texture
@@ -208,18 +214,7 @@ pub(crate) fn check_density_texture(
             "a filterable float format (e.g. R8Unorm, R16Float)".into(),
         ));
     }
-    if !texture
-        .usage()
-        .contains(wgpu::TextureUsages::TEXTURE_BINDING)
-    {
-        return Err(mismatch(
-            WHAT,
-            "usage",
-            texture.usage(),
-            "TEXTURE_BINDING".into(),
-        ));
-    }
-    Ok(())
+    check_texture_binding(WHAT, texture)
 }
 
 /// Checks that a device can run a configuration.
