@@ -37,6 +37,41 @@ fn export_writes_every_variant_and_the_manifest() {
 }
 
 #[test]
+fn export_writes_the_named_snippets_and_lists_them() {
+    let out = scratch("cli-export-snippets");
+    let o = volfog()
+        .args([
+            "export",
+            "--target",
+            "glsl,hlsl",
+            "--snippets",
+            "phase,lightning",
+            "--out",
+        ])
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let manifest: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("manifest.json")).unwrap()).unwrap();
+    let names: Vec<&str> = manifest["snippets"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|s| s["name"].as_str().unwrap())
+        .collect();
+    assert_eq!(names, ["phase", "lightning"]);
+    for file in [
+        "glsl/include/volfog_phase.glsl",
+        "hlsl/include/volfog_lightning.hlsli",
+        "volfog_layout.h",
+    ] {
+        assert!(out.join(file).is_file(), "{file}");
+    }
+    assert!(!out.join("glsl/include/volfog_apply.glsl").exists());
+}
+
+#[test]
 fn list_names_every_variant() {
     let o = volfog().arg("list").output().unwrap();
     assert!(o.status.success());
@@ -48,8 +83,15 @@ fn list_names_every_variant() {
 
 #[test]
 fn bad_requests_exit_2_and_write_nothing() {
-    let cases: [&[&str]; 4] = [
+    let cases: [&[&str]; 5] = [
         &["export", "--target", "dxil"],
+        &[
+            "export",
+            "--target",
+            "hlsl",
+            "--snippets",
+            "apply,fog_light",
+        ],
         &["export", "--target", "all", "--variant", "scan@NOPE"],
         &[
             "export",
@@ -69,7 +111,9 @@ fn bad_requests_exit_2_and_write_nothing() {
         ],
     ];
     for (i, args) in cases.iter().enumerate() {
-        let out = scratch(&format!("cli-export-bad-{i}"));
+        // A parent of its own: other tests export beside their own folders meanwhile.
+        let out = scratch(&format!("cli-export-bad-{i}")).join("out");
+        std::fs::create_dir_all(out.parent().unwrap()).unwrap();
         let o = volfog()
             .args(*args)
             .arg("--out")
