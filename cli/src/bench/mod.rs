@@ -32,6 +32,7 @@ use std::time::Instant;
 use serde::Serialize;
 use volfog::pipeline::apply::ApplyPipeline;
 use volfog::pipeline::{FogConfig, FogError, FogPass, PassTimings, TimestampPairs, VolumetricFog};
+use volfog_testkit::gpu::texture_2d;
 use volfog_testkit::{Gpu, GpuError};
 
 use raymarch::{RAYMARCH_STEPS, Raymarch, RaymarchOptions, ShaderError};

@@ -44,29 +44,6 @@ impl Timer {
     }
 }
 
-pub(super) fn texture_2d(
-    gpu: &Gpu,
-    label: &str,
-    (width, height): (u32, u32),
-    format: wgpu::TextureFormat,
-    usage: wgpu::TextureUsages,
-) -> wgpu::Texture {
-    gpu.device.create_texture(&wgpu::TextureDescriptor {
-        label: Some(label),
-        size: wgpu::Extent3d {
-            width,
-            height,
-            depth_or_array_layers: 1,
-        },
-        mip_level_count: 1,
-        sample_count: 1,
-        dimension: wgpu::TextureDimension::D2,
-        format,
-        usage,
-        view_formats: &[],
-    })
-}
-
 pub(super) fn depth_view(texture: &wgpu::Texture) -> wgpu::TextureView {
     texture.create_view(&wgpu::TextureViewDescriptor {
         aspect: wgpu::TextureAspect::DepthOnly,
@@ -104,7 +81,7 @@ impl Screen {
         let depth = depth_view(&depth);
         let depth_group = apply.depth_bind_group(&gpu.device, &depth);
         let color = texture_2d(
-            gpu,
+            &gpu.device,
             "bench colour",
             size,
             COLOR_FORMAT,
@@ -282,14 +259,14 @@ impl BlitPass {
             },
         );
         let source = texture_2d(
-            gpu,
+            &gpu.device,
             "bench blit source",
             size,
             format,
             wgpu::TextureUsages::TEXTURE_BINDING,
         );
         let target = texture_2d(
-            gpu,
+            &gpu.device,
             "bench blit target",
             size,
             format,

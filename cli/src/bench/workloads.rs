@@ -115,7 +115,7 @@ impl Workloads {
             },
         )?;
         let reference_target = texture_2d(
-            gpu,
+            &gpu.device,
             "bench raymarch target",
             SCREEN,
             COLOR_FORMAT,

@@ -10,6 +10,7 @@ use glam::{Mat4, Vec3, Vec4};
 use naga_oil::compose::{Composer, NagaModuleDescriptor, ShaderDefValue};
 use volfog::pipeline::VolumetricFog;
 use volfog::uniforms::{self, FogLight, ShadowCascades};
+use volfog_testkit::gpu::texture_2d;
 use wgpu::util::DeviceExt;
 
 use super::scene::{Mesh, Scene, Vertex};
@@ -121,30 +122,6 @@ fn uniform_entry(binding: u32, visibility: wgpu::ShaderStages) -> wgpu::BindGrou
     }
 }
 
-fn target(
-    device: &wgpu::Device,
-    label: &str,
-    width: u32,
-    height: u32,
-    format: wgpu::TextureFormat,
-    usage: wgpu::TextureUsages,
-) -> wgpu::Texture {
-    device.create_texture(&wgpu::TextureDescriptor {
-        label: Some(label),
-        size: wgpu::Extent3d {
-            width,
-            height,
-            depth_or_array_layers: 1,
-        },
-        mip_level_count: 1,
-        sample_count: 1,
-        dimension: wgpu::TextureDimension::D2,
-        format,
-        usage,
-        view_formats: &[],
-    })
-}
-
 /// Composes a demo shader with the volfog modules (the fog group at index 1).
 fn compose(source: &str, file_path: &str) -> Result<naga::Module, String> {
     let mut composer = Composer::default();
@@ -174,27 +151,24 @@ impl Renderer {
         let attachment =
             wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING;
         let copy = wgpu::TextureUsages::COPY_SRC | wgpu::TextureUsages::COPY_DST;
-        let hdr = target(
+        let hdr = texture_2d(
             device,
             "demo hdr",
-            width,
-            height,
+            (width, height),
             HDR_FORMAT,
             attachment | copy,
         );
-        let depth = target(
+        let depth = texture_2d(
             device,
             "demo depth",
-            width,
-            height,
+            (width, height),
             DEPTH_FORMAT,
             attachment | wgpu::TextureUsages::COPY_SRC,
         );
-        let ldr = target(
+        let ldr = texture_2d(
             device,
             "demo ldr",
-            width,
-            height,
+            (width, height),
             LDR_FORMAT,
             wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
         );
@@ -743,11 +717,10 @@ impl Renderer {
 
     /// A texture like the HDR target, to keep copies of it.
     pub fn hdr_like(&self, device: &wgpu::Device, label: &str) -> wgpu::Texture {
-        target(
+        texture_2d(
             device,
             label,
-            self.width,
-            self.height,
+            (self.width, self.height),
             HDR_FORMAT,
             wgpu::TextureUsages::COPY_SRC | wgpu::TextureUsages::COPY_DST,
         )
