@@ -295,6 +295,15 @@ pub const PASSES: &[PassSource] = &[
                 sampler (binding 10) is linear with repeat addressing."
     ),
     pass!(
+        "noise_bake",
+        axes: &[],
+        values: &[],
+        usage: "Dispatch ceil(NOISE_TEXTURE_SIZE / 4) workgroups on each axis, once, into a \
+                NOISE_TEXTURE_SIZE^3 rgba16float 3D texture (storage and texture binding \
+                usage); inject@INJECT_NOISE_TEXTURE then samples it with a linear, repeat \
+                sampler."
+    ),
+    pass!(
         "temporal",
         axes: &[],
         values: &[],

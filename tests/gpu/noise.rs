@@ -1,14 +1,20 @@
 //! Improved Perlin noise on the GPU: against the CPU mirror and against an f64 port
 //! of Perlin's reference implementation, its range, zeros on the lattice, continuity
 //! across cells and periods, statistics, the wind animation, the gradient on the
-//! lattice against the explicit gradient table of Green 2005, and the translation of
-//! a kernel using it to every target.
+//! lattice against the explicit gradient table of Green 2005, the baked noise texture
+//! and its sampled fractal sum against the CPU bake, and the translation of kernels
+//! using them to every target.
 
 use crate::common;
 
 use common::{gpu, run_f32};
 use glam::Vec3;
-use volfog::cpu::noise::{noise_animated, noise_fbm, perlin_noise};
+use volfog::cpu::inject::DensityTexture;
+use volfog::cpu::noise::{
+    NOISE_TEXTURE_SIZE, bake_noise_texture, noise_animated, noise_animated_texture, noise_fbm,
+    noise_fbm_texture, perlin_noise, perlin_noise_tiled,
+};
+use volfog::pipeline::noise::{NOISE_TEXTURE_BYTES, NoiseBake, noise_sampler};
 use volfog_testkit::Gpu;
 
 /// perlin_noise and noise_fbm per point: input (x, y, z, octaves), two outputs.
@@ -50,6 +56,34 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
 }
 "#;
 
+/// perlin_noise_tiled, noise_fbm_texture and noise_animated_texture per point: input
+/// (x, y, z, octaves), three outputs; the noise texture and its sampler at bindings 2
+/// and 3. The animation uses the wind (2, -0.5, 1.25) m/s, time 3 s and scale 0.5 / m
+/// (dyadic: the advected point is exact in f32).
+const TEXTURE_KERNEL: &str = r#"
+#import volfog::noise::{perlin_noise_tiled, noise_fbm_texture, noise_animated_texture, NOISE_TEXTURE_PERIOD}
+
+@group(0) @binding(0) var<storage, read> input: array<vec4<f32>>;
+@group(0) @binding(1) var<storage, read_write> output: array<f32>;
+@group(0) @binding(2) var noise_texture: texture_3d<f32>;
+@group(0) @binding(3) var noise_sampler: sampler;
+
+@compute @workgroup_size(64)
+fn main(@builtin(global_invocation_id) id: vec3<u32>) {
+    let i = id.x;
+    if i >= arrayLength(&input) { return; }
+    let p = input[i].xyz;
+    let octaves = u32(input[i].w);
+    output[3u * i] = perlin_noise_tiled(p, NOISE_TEXTURE_PERIOD);
+    output[3u * i + 1u] = noise_fbm_texture(noise_texture, noise_sampler, p, octaves);
+    output[3u * i + 2u] = noise_animated_texture(
+        noise_texture, noise_sampler, p, 0.5, vec3<f32>(2.0, -0.5, 1.25), 3.0, octaves);
+}
+"#;
+
+/// The wind, time and scale of TEXTURE_KERNEL's noise_animated_texture.
+const TEXTURE_KERNEL_ANIMATION: (Vec3, f32, f32) = (Vec3::new(2.0, -0.5, 1.25), 3.0, 0.5);
+
 /// Deterministic generator (splitmix64) for sample points.
 struct Rng(u64);
 
@@ -88,6 +122,85 @@ fn eval_gpu(gpu: &Gpu, points: &[(Vec3, u32)]) -> Vec<(f32, f32)> {
         points.len() as u32,
     );
     out.chunks(2).map(|c| (c[0], c[1])).collect()
+}
+
+/// Runs TEXTURE_KERNEL with `texture` (sampled with the runtime's noise sampler):
+/// (perlin_noise_tiled(p, 16), noise_fbm_texture(p, octaves),
+/// noise_animated_texture(p, ..., octaves)) per point.
+fn eval_texture_gpu(
+    gpu: &Gpu,
+    texture: &wgpu::Texture,
+    points: &[(Vec3, u32)],
+) -> Vec<(f32, f32, f32)> {
+    use wgpu::util::DeviceExt;
+    let device = &gpu.device;
+    let inputs: Vec<f32> = points
+        .iter()
+        .flat_map(|(p, o)| [p.x, p.y, p.z, *o as f32])
+        .collect();
+    let input = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+        label: Some("noise texture kernel input"),
+        contents: bytemuck::cast_slice(&inputs),
+        usage: wgpu::BufferUsages::STORAGE,
+    });
+    let output = device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("noise texture kernel output"),
+        size: (3 * 4 * points.len()) as u64,
+        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+        mapped_at_creation: false,
+    });
+    let module = gpu.shader_from_naga("noise texture kernel", common::compose(TEXTURE_KERNEL, &[]));
+    let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+        label: Some("noise texture kernel"),
+        layout: None,
+        module: &module,
+        entry_point: Some("main"),
+        compilation_options: Default::default(),
+        cache: None,
+    });
+    let view = texture.create_view(&Default::default());
+    let sampler = noise_sampler(device);
+    let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some("noise texture kernel"),
+        layout: &pipeline.get_bind_group_layout(0),
+        entries: &[
+            wgpu::BindGroupEntry {
+                binding: 0,
+                resource: input.as_entire_binding(),
+            },
+            wgpu::BindGroupEntry {
+                binding: 1,
+                resource: output.as_entire_binding(),
+            },
+            wgpu::BindGroupEntry {
+                binding: 2,
+                resource: wgpu::BindingResource::TextureView(&view),
+            },
+            wgpu::BindGroupEntry {
+                binding: 3,
+                resource: wgpu::BindingResource::Sampler(&sampler),
+            },
+        ],
+    });
+    let mut encoder = device.create_command_encoder(&Default::default());
+    {
+        let mut pass = encoder.begin_compute_pass(&Default::default());
+        pass.set_pipeline(&pipeline);
+        pass.set_bind_group(0, &group, &[]);
+        pass.dispatch_workgroups((points.len() as u32).div_ceil(64), 1, 1);
+    }
+    gpu.queue.submit([encoder.finish()]);
+    let bytes = gpu.read_buffer(&output).expect("readback");
+    let out: &[f32] = bytemuck::cast_slice(&bytes);
+    out.chunks(3).map(|c| (c[0], c[1], c[2])).collect()
+}
+
+/// Bakes the noise texture on the GPU and reads it back: the texture and its red
+/// channel as a CPU texture (x fastest).
+fn baked_noise(gpu: &Gpu) -> (wgpu::Texture, Vec<glam::Vec4>) {
+    let texture = NoiseBake::bake(&gpu.device, &gpu.queue).expect("the bake pass compiles");
+    let texels = common::scene::read_volume(gpu, &texture);
+    (texture, texels)
 }
 
 /// Perlin's reference implementation (his Java `ImprovedNoise`), ported in f64 with
@@ -656,52 +769,223 @@ fn noise_gradient_on_lattice_is_the_selected_edge_gradient() {
     );
 }
 
+/// The bake pass writes perlin_noise_tiled on the texel lattice: the texture read back
+/// against the CPU bake. The values are in [-1, 1], where an f16 has an ulp of at most
+/// 2^-11 below 1 (and 1 is exact): the store rounds to nearest (half an ulp, 2^-12) or,
+/// as Vulkan also allows, toward zero (a whole ulp, 2^-11 = 4.9e-4); 5e-4 allows either
+/// plus the f32 difference of the two evaluations (~1e-7).
 #[test]
-fn noise_kernel_translates_to_every_target() {
-    let module = common::compose(EVAL_KERNEL, &[]);
-    let entries = volfog_codegen::translate::translate("noise_test", module, &Default::default())
-        .unwrap_or_else(|e| panic!("{e}"));
-    assert_eq!(entries.len(), 1);
-    let entry = &entries[0];
-    for (target, text) in [
-        ("wgsl", &entry.wgsl),
-        ("glsl", &entry.glsl),
-        ("hlsl", &entry.hlsl),
-        ("msl", &entry.msl),
-    ] {
-        // The permutation travels as a table in the shader (first word 0x5b89a097).
+fn noise_bake_matches_cpu_bake() {
+    let gpu = gpu();
+    let (texture, texels) = baked_noise(gpu);
+    let n = NOISE_TEXTURE_SIZE;
+    assert_eq!(
+        (texture.size().width, texture.size().height),
+        (n, n),
+        "{:?}",
+        texture.size()
+    );
+    assert_eq!(texture.size().depth_or_array_layers, n);
+    assert_eq!(texture.format(), wgpu::TextureFormat::Rgba16Float);
+    assert_eq!(
+        texture.usage(),
+        wgpu::TextureUsages::STORAGE_BINDING
+            | wgpu::TextureUsages::TEXTURE_BINDING
+            | wgpu::TextureUsages::COPY_SRC
+    );
+    assert_eq!(NOISE_TEXTURE_BYTES, u64::from(n).pow(3) * 8);
+    assert_eq!(NOISE_TEXTURE_BYTES, 2 << 20);
+    let cpu = bake_noise_texture();
+    assert_eq!(texels.len(), cpu.texels.len());
+    let tol = 5e-4f32;
+    let (mut worst, mut nearest, mut toward_zero) = (0.0f32, 0usize, 0usize);
+    for (k, (t, &want)) in texels.iter().zip(&cpu.texels).enumerate() {
+        let e = (t.x - want).abs();
+        worst = worst.max(e);
+        // The two roundings Vulkan allows: to nearest, and toward zero (one f16 step
+        // closer to zero when the nearest one is farther from zero than the value).
+        let rte = half::f16::from_f32(want);
+        let rtz = if rte.to_f32().abs() > want.abs() {
+            half::f16::from_bits(rte.to_bits() - 1)
+        } else {
+            rte
+        };
+        nearest += usize::from(t.x == rte.to_f32());
+        toward_zero += usize::from(t.x == rtz.to_f32());
+        assert!(e <= tol, "texel {k}: gpu {} cpu {want}", t.x);
+        assert_eq!((t.y, t.z, t.w), (0.0, 0.0, 1.0), "texel {k}");
+    }
+    eprintln!(
+        "noise bake: {n}^3 texels, max |gpu - cpu| {worst:e} (bound {tol:e}); of {}, {nearest} \
+         equal the CPU value rounded to the nearest f16 and {toward_zero} rounded toward zero",
+        texels.len()
+    );
+}
+
+/// Test points for the texture form: random near the origin, in the first tiles, far
+/// away, and on the texel lattice and the tile seams; octaves 0..=9 (clamped to 1..=8).
+fn texture_points() -> Vec<(Vec3, u32)> {
+    let mut rng = Rng(61);
+    let mut pts = Vec::new();
+    for i in 0..40_000u32 {
+        let span = [16.0f32, 40.0, 1.0e3, 1.0e4][(i % 4) as usize];
+        pts.push((
+            rng.vec(-span, span),
+            [1, 2, 4, 8, 3, 0, 9, 1][(i % 8) as usize],
+        ));
+    }
+    for _ in 0..2000 {
+        // Texel centres (quarter lattice units) and tile seams (multiples of 16).
+        let q = Vec3::new(
+            rng.int(-128, 128) as f32,
+            rng.int(-128, 128) as f32,
+            rng.int(-128, 128) as f32,
+        ) * 0.25;
+        pts.push((q, 1));
+        let mut seam = rng.vec(-40.0, 40.0);
+        seam.x = 16.0 * rng.int(-2, 2) as f32 + rng.range(-1e-3, 1e-3);
+        pts.push((seam, 2));
+    }
+    pts
+}
+
+/// noise_fbm_texture sampled on the GPU from the GPU-baked texture against the CPU
+/// mirror on the CPU bake, and against the CPU mirror on the texels read back (which
+/// isolates the sampler's filtering), plus perlin_noise_tiled and
+/// noise_animated_texture.
+///
+/// Bound: the texels differ by at most 5e-4 (see noise_bake_matches_cpu_bake), and a
+/// trilinear filter is a convex combination, so that carries over to each octave and to
+/// the normalised sum. The sampler computes its weights in reduced precision (lavapipe:
+/// 8-bit fixed point, as Vulkan's subTexelPrecisionBits = 8 minimum allows): a weight off
+/// by up to 2^-8 moves a sample by that times the difference of the two texels it
+/// blends, at most D = the largest difference of neighbouring texels, on each of the
+/// three axes: 5e-4 + 3 * 2^-8 * D.
+#[test]
+fn noise_fbm_texture_matches_cpu_mirror() {
+    let gpu = gpu();
+    let (texture, texels) = baked_noise(gpu);
+    let cpu = bake_noise_texture();
+    let read_back = DensityTexture {
+        size: cpu.size,
+        texels: texels.iter().map(|t| t.x).collect(),
+    };
+    let n = NOISE_TEXTURE_SIZE as i32;
+    let at = |x: i32, y: i32, z: i32| {
+        let w = |v: i32| v.rem_euclid(n) as usize;
+        cpu.texels[(w(z) * n as usize + w(y)) * n as usize + w(x)]
+    };
+    let mut neighbour = 0.0f32;
+    for z in 0..n {
+        for y in 0..n {
+            for x in 0..n {
+                let here = at(x, y, z);
+                for (dx, dy, dz) in [(1, 0, 0), (0, 1, 0), (0, 0, 1)] {
+                    neighbour = neighbour.max((at(x + dx, y + dy, z + dz) - here).abs());
+                }
+            }
+        }
+    }
+    let tol = 5e-4 + 3.0 * neighbour / 256.0;
+    let pts = texture_points();
+    let out = eval_texture_gpu(gpu, &texture, &pts);
+    let (wind, time, scale) = TEXTURE_KERNEL_ANIMATION;
+    let (mut worst_tiled, mut worst_bake, mut worst_filter, mut worst_anim) =
+        (0.0f32, 0.0f32, 0.0f32, 0.0f32);
+    let mut sum2 = 0.0f64;
+    for (&(p, o), &(tiled, fbm, anim)) in pts.iter().zip(&out) {
+        let e = (tiled - perlin_noise_tiled(p, 16)).abs();
+        worst_tiled = worst_tiled.max(e);
+        assert!(e <= 1e-5, "perlin_noise_tiled({p}): gpu {tiled}");
+        let want = noise_fbm_texture(&cpu, p, o);
+        let e = (fbm - want).abs();
+        worst_bake = worst_bake.max(e);
+        sum2 += f64::from(e) * f64::from(e);
         assert!(
-            text.contains("1535746199") || text.contains("0x5b89a097"),
-            "{target}: no permutation table"
+            e <= tol,
+            "noise_fbm_texture({p}, {o}): gpu {fbm} cpu {want}"
+        );
+        let e = (fbm - noise_fbm_texture(&read_back, p, o)).abs();
+        worst_filter = worst_filter.max(e);
+        let want = noise_animated_texture(&cpu, p, scale, wind, time, o);
+        let e = (anim - want).abs();
+        worst_anim = worst_anim.max(e);
+        assert!(
+            e <= tol,
+            "noise_animated_texture({p}, {o}): gpu {anim} cpu {want}"
         );
     }
+    // Octaves clamp to 1..=8 as in noise_fbm.
+    let probe = Vec3::new(1.3, -2.7, 5.1);
+    let clamp = eval_texture_gpu(
+        gpu,
+        &texture,
+        &[(probe, 0), (probe, 1), (probe, 9), (probe, 8)],
+    );
+    assert_eq!(clamp[0].1, clamp[1].1);
+    assert_eq!(clamp[2].1, clamp[3].1);
+    eprintln!(
+        "noise texture sampling: {} points; noise_fbm_texture |gpu - cpu bake| max {worst_bake:e} \
+         RMS {:.2e} (bound 5e-4 + 3 * 2^-8 * {neighbour:.4} = {tol:.2e}); |gpu - cpu on the \
+         texels read back| max {worst_filter:e} (the filtering alone); noise_animated_texture \
+         max {worst_anim:e}; perlin_noise_tiled |gpu - cpu| max {worst_tiled:e} (bound 1e-5)",
+        pts.len(),
+        (sum2 / pts.len() as f64).sqrt()
+    );
+}
+
+#[test]
+fn noise_kernel_translates_to_every_target() {
     let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("gpu_noise_translate");
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
-    let spv = dir.join("noise.spv");
-    std::fs::write(&spv, entry.bytes(volfog_codegen::Target::Spirv)).unwrap();
-    let glsl = dir.join("noise.comp");
-    std::fs::write(&glsl, &entry.glsl).unwrap();
-    // Kept beside them for review: there is no HLSL or MSL compiler here.
-    std::fs::write(dir.join("noise.hlsl"), &entry.hlsl).unwrap();
-    std::fs::write(dir.join("noise.metal"), &entry.msl).unwrap();
-    const HINT: &str = "apt-get update && apt-get install -y spirv-tools glslang-tools";
-    for (tool, args) in [
-        (
-            "spirv-val",
-            vec!["--target-env", "vulkan1.1", spv.to_str().unwrap()],
-        ),
-        ("glslangValidator", vec![glsl.to_str().unwrap()]),
-    ] {
-        let o = std::process::Command::new(tool)
-            .args(&args)
-            .output()
-            .unwrap_or_else(|_| panic!("{tool} is not installed; install it with: {HINT}"));
-        assert!(
-            o.status.success(),
-            "{tool}: {}{}",
-            String::from_utf8_lossy(&o.stdout),
-            String::from_utf8_lossy(&o.stderr)
-        );
+    for (name, kernel) in [("noise", EVAL_KERNEL), ("noise_texture", TEXTURE_KERNEL)] {
+        let module = common::compose(kernel, &[]);
+        let entries = volfog_codegen::translate::translate(
+            &format!("{name}_test"),
+            module,
+            &Default::default(),
+        )
+        .unwrap_or_else(|e| panic!("{name}: {e}"));
+        assert_eq!(entries.len(), 1);
+        let entry = &entries[0];
+        for (target, text) in [
+            ("wgsl", &entry.wgsl),
+            ("glsl", &entry.glsl),
+            ("hlsl", &entry.hlsl),
+            ("msl", &entry.msl),
+        ] {
+            // The permutation travels as a table in the shader (first word 0x5b89a097).
+            assert!(
+                text.contains("1535746199") || text.contains("0x5b89a097"),
+                "{name} {target}: no permutation table"
+            );
+        }
+        let spv = dir.join(format!("{name}.spv"));
+        std::fs::write(&spv, entry.bytes(volfog_codegen::Target::Spirv)).unwrap();
+        let glsl = dir.join(format!("{name}.comp"));
+        std::fs::write(&glsl, &entry.glsl).unwrap();
+        // Kept beside them for review: there is no HLSL or MSL compiler here.
+        std::fs::write(dir.join(format!("{name}.hlsl")), &entry.hlsl).unwrap();
+        std::fs::write(dir.join(format!("{name}.metal")), &entry.msl).unwrap();
+        const HINT: &str = "apt-get update && apt-get install -y spirv-tools glslang-tools";
+        for (tool, args) in [
+            (
+                "spirv-val",
+                vec!["--target-env", "vulkan1.1", spv.to_str().unwrap()],
+            ),
+            ("glslangValidator", vec![glsl.to_str().unwrap()]),
+        ] {
+            let o = std::process::Command::new(tool)
+                .args(&args)
+                .output()
+                .unwrap_or_else(|_| panic!("{tool} is not installed; install it with: {HINT}"));
+            assert!(
+                o.status.success(),
+                "{name}: {tool}: {}{}",
+                String::from_utf8_lossy(&o.stdout),
+                String::from_utf8_lossy(&o.stderr)
+            );
+        }
     }
 }

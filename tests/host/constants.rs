@@ -85,6 +85,15 @@ fn module_constants_match_their_rust_twins() {
             &[
                 ("NOISE_MAX_OCTAVES", cpu::noise::NOISE_MAX_OCTAVES as f64),
                 ("NOISE_MAX_OCTAVES", limits::NOISE_OCTAVES.max as f64),
+                (
+                    "NOISE_TEXTURE_PERIOD",
+                    cpu::noise::NOISE_TEXTURE_PERIOD as f64,
+                ),
+                (
+                    "NOISE_TEXTURE_TEXELS_PER_UNIT",
+                    cpu::noise::NOISE_TEXTURE_TEXELS_PER_UNIT as f64,
+                ),
+                ("NOISE_TEXTURE_SIZE", cpu::noise::NOISE_TEXTURE_SIZE as f64),
             ],
         ),
         (
@@ -178,7 +187,7 @@ fn module_constants_match_their_rust_twins() {
 
 #[test]
 fn pass_constants_and_workgroups_match_the_runtime() {
-    use volfog::pipeline::{esm, inject, scan, temporal};
+    use volfog::pipeline::{esm, inject, noise, scan, temporal};
     let pass = |name: &str, defines: &[&str]| {
         let defines: Vec<String> = defines.iter().map(|d| d.to_string()).collect();
         volfog::shaders::compose(name, &defines).unwrap()
@@ -203,6 +212,8 @@ fn pass_constants_and_workgroups_match_the_runtime() {
     };
     let w = inject::WORKGROUP;
     assert_eq!(workgroup(&inject_module, "inject"), [w, w, w]);
+    let w = noise::WORKGROUP;
+    assert_eq!(workgroup(&pass("noise_bake", &[]), "noise_bake"), [w, w, w]);
     let w = temporal::WORKGROUP;
     assert_eq!(workgroup(&pass("temporal", &[]), "temporal"), [w, w, w]);
     assert_eq!(
