@@ -54,6 +54,19 @@ impl Filtering {
     }
 }
 
+/// The define of depth culling (`VOLFOG_FROXEL_CULL`) for the inject, temporal and scan
+/// variants: none when `cull` is false.
+pub fn cull_defines(cull: bool) -> Vec<String> {
+    if cull {
+        vec![CULL_DEFINE.to_string()]
+    } else {
+        Vec::new()
+    }
+}
+
+/// The define that enables depth culling in inject, temporal and scan.
+pub const CULL_DEFINE: &str = "VOLFOG_FROXEL_CULL";
+
 /// Options of the inject pass and its CPU mirror.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct InjectOptions {
@@ -65,6 +78,11 @@ pub struct InjectOptions {
     pub density_texture: bool,
     /// Log-space ESM (`VOLFOG_ESM_LOG_SPACE`).
     pub esm_log_space: bool,
+    /// Noise read from the baked tileable texture instead of evaluated
+    /// (`VOLFOG_INJECT_NOISE_TEXTURE`).
+    pub noise_texture: bool,
+    /// Froxels behind their column's live slices skipped (`VOLFOG_FROXEL_CULL`).
+    pub depth_cull: bool,
     /// fbm octaves (`VOLFOG_INJECT_NOISE_OCTAVES`), see
     /// [`limits::NOISE_OCTAVES`](crate::limits::NOISE_OCTAVES).
     pub noise_octaves: u32,
@@ -77,6 +95,8 @@ impl Default for InjectOptions {
             two_color_phase: false,
             density_texture: false,
             esm_log_space: false,
+            noise_texture: false,
+            depth_cull: false,
             noise_octaves: manifest::INJECT_NOISE_OCTAVES.default,
         }
     }
@@ -98,6 +118,10 @@ impl InjectOptions {
         if self.density_texture {
             d.push("VOLFOG_INJECT_DENSITY_TEXTURE".to_string());
         }
+        if self.noise_texture {
+            d.push("VOLFOG_INJECT_NOISE_TEXTURE".to_string());
+        }
+        d.extend(cull_defines(self.depth_cull));
         if self.noise_octaves != manifest::INJECT_NOISE_OCTAVES.default {
             d.push(format!(
                 "{}={}",

@@ -237,10 +237,24 @@ pub const MODULES: &[ModuleSource] = &[
 pub const PASSES: &[PassSource] = &[
     pass!(
         "scan",
-        axes: &[Axis::Flag("VOLFOG_SCAN_WRONSKI_STEP")],
+        axes: &[Axis::Flag("VOLFOG_SCAN_WRONSKI_STEP"), Axis::Flag("VOLFOG_FROXEL_CULL")],
         values: &[],
         usage: "Dispatch ceil(size.x / 8) x ceil(size.y / 8) x 1 workgroups after the \
-                scattering volume is written; the integrated volume is then read by apply."
+                scattering volume is written; the integrated volume is then read by apply. \
+                Under VOLFOG_FROXEL_CULL binding 3 is this frame's live-slice texture \
+                (froxel_cull), bound as uint."
+    ),
+    pass!(
+        "froxel_cull",
+        axes: &[],
+        values: &[],
+        usage: "Dispatch size.x x size.y x 1 workgroups (one per froxel column) before \
+                inject, after the scene depth is laid out. Binding 1 is the scene depth \
+                (or a farthest-depth level of a hierarchical depth buffer), bound as \
+                unfilterable float; binding 2 an r32uint size.x x size.y storage texture \
+                that inject, temporal and scan read under VOLFOG_FROXEL_CULL. With \
+                temporal reprojection keep two and swap them by frame parity like the \
+                history volumes: temporal binding 9 is the one the history was written with."
     ),
     pass!(
         "fullscreen",
@@ -286,13 +300,19 @@ pub const PASSES: &[PassSource] = &[
             Axis::Flag("VOLFOG_INJECT_JITTER"),
             Axis::Flag("VOLFOG_INJECT_TWO_COLOR_PHASE"),
             Axis::Flag("VOLFOG_INJECT_DENSITY_TEXTURE"),
+            Axis::Flag("VOLFOG_INJECT_NOISE_TEXTURE"),
+            Axis::Flag("VOLFOG_FROXEL_CULL"),
         ],
         values: &[INJECT_NOISE_OCTAVES],
         usage: "Dispatch ceil(size.x / 4) x ceil(size.y / 4) x ceil(size.z / 4) workgroups \
                 after the ESM passes. The light buffer holds light_count FogLight elements \
                 (64-byte stride), the local volume buffer local_volume_count LocalVolume \
                 elements (80-byte stride); bind at least one element each. The density \
-                sampler (binding 10) is linear with repeat addressing."
+                sampler (binding 10) and the noise sampler (binding 13) are linear with \
+                repeat addressing; binding 12 is the texture noise_bake wrote. Binding 11 \
+                is this frame's live-slice texture (froxel_cull), bound as uint. With \
+                FogFrame.checkerboard = 1 dispatch ceil(ceil(size.x / 2) / 4) workgroups \
+                along x instead."
     ),
     pass!(
         "noise_bake",
@@ -305,13 +325,15 @@ pub const PASSES: &[PassSource] = &[
     ),
     pass!(
         "temporal",
-        axes: &[],
+        axes: &[Axis::Flag("VOLFOG_FROXEL_CULL")],
         values: &[],
         usage: "Dispatch ceil(size.x / 4) x ceil(size.y / 4) x ceil(size.z / 4) workgroups \
                 after inject. Ping-pong two volumes and their HistoryState buffers (80 bytes, \
                 zero-initialised) by frame parity: frame n reads volume and state (n + 1) % 2 \
                 at bindings 3 and 6 and writes volume and state n % 2 at bindings 5 and 7. \
-                The sampler (binding 4) is linear with clamp-to-edge addressing."
+                The sampler (binding 4) is linear with clamp-to-edge addressing. Under \
+                VOLFOG_FROXEL_CULL bindings 8 and 9 are the live-slice textures of this \
+                frame and of the history (uint)."
     ),
     pass!(
         "hull_thickness",

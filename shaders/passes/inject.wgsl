@@ -1,9 +1,13 @@
 // Pass inject — density and in-scattered light of every froxel in one compute pass
 // (Wronski 2014, "Density estimation and volume lighting", as in Assassin's Creed 4).
 //
-// Dispatch: ceil(size.x / 4) x ceil(size.y / 4) x ceil(size.z / 4) workgroups of 4 x 4 x 4.
+// Dispatch: ceil(columns / 4) x ceil(size.y / 4) x ceil(size.z / 4) workgroups of
+// 4 x 4 x 4, with columns = size.x, or ceil(size.x / 2) when FogFrame.checkerboard is 1
+// (each invocation then takes one froxel of a pair along x: the one
+// volfog::froxel::froxel_injected picks this frame).
 // Output: rgb = sigma_s * L_in (radiance scattered towards the eye per metre),
-//         a = sigma_t (1/m), written to a write-only rgba16float 3D texture.
+//         a = sigma_t (1/m), written to a write-only rgba16float 3D texture; froxels
+//         that are skipped (checkerboard, depth culling) are not written.
 // Bindings (group 0):
 //   0  uniform Froxels            1  uniform FogFrame         2  uniform FogMedium
 //   3  uniform FogLighting        4  uniform ShadowCascades
@@ -13,20 +17,31 @@
 //   8  texture_storage_3d<rgba16float, write>: the scattering volume
 //   9  texture_3d<f32>: density texture (VOLFOG_INJECT_DENSITY_TEXTURE only)
 //  10  sampler, linear, repeat (VOLFOG_INJECT_DENSITY_TEXTURE only)
+//  11  texture_2d<u32>: live slices per column from froxel_cull (VOLFOG_FROXEL_CULL only)
+//  12  texture_3d<f32>: the baked noise texture (VOLFOG_INJECT_NOISE_TEXTURE only)
+//  13  sampler, linear, repeat (VOLFOG_INJECT_NOISE_TEXTURE only)
 // Lights are culled per workgroup: the lights whose range touches the block's bounding
 // sphere are gathered in workgroup memory (at most 64), so distant lights cost nothing.
+// A froxel without extinction gets no lighting (its in-scattering is 0 whatever the light).
 // Defines:
 //   VOLFOG_INJECT_JITTER            sample each froxel at FogFrame.jitter instead of its centre
 //   VOLFOG_INJECT_TWO_COLOR_PHASE   AC4's two-colour sun phase instead of Henyey-Greenstein
 //   VOLFOG_INJECT_DENSITY_TEXTURE   multiply the density by a user 3D texture (r channel)
+//   VOLFOG_INJECT_NOISE_TEXTURE     read the noise from the baked tileable texture
+//                                   (noise_bake) instead of evaluating Perlin noise
 //   VOLFOG_INJECT_NOISE_OCTAVES=N   fbm octaves, 1..=8 (default 1, as in the seed)
+//   VOLFOG_FROXEL_CULL              skip froxels behind the column's live slices
 //   VOLFOG_ESM_LOG_SPACE            the ESM holds log-space values (see volfog::esm)
 
 #import volfog::types::{Froxels, FogFrame, FogMedium, FogLighting, ShadowCascades, FogLight, LocalVolume}
-#import volfog::froxel::froxel_view_position
+#import volfog::froxel::{froxel_view_position, froxel_injected}
+#ifdef VOLFOG_INJECT_NOISE_TEXTURE
+#import volfog::noise::noise_animated_texture
+#else
 #import volfog::noise::noise_animated
+#endif
 #import volfog::density::{medium_extinction, local_volume_density}
-#import volfog::esm::esm_shadow
+#import volfog::esm::{esm_cascade, esm_shadow_cascade}
 #import volfog::lights::{light_touches_sphere, fog_light_inscatter, sun_inscatter, sun_inscatter_two_color, ambient_inscatter}
 
 @group(0) @binding(0) var<uniform> froxels: Froxels;
@@ -42,6 +57,13 @@
 @group(0) @binding(9) var density_texture: texture_3d<f32>;
 @group(0) @binding(10) var density_sampler: sampler;
 #endif
+#ifdef VOLFOG_FROXEL_CULL
+@group(0) @binding(11) var live_slices: texture_2d<u32>;
+#endif
+#ifdef VOLFOG_INJECT_NOISE_TEXTURE
+@group(0) @binding(12) var noise_texture: texture_3d<f32>;
+@group(0) @binding(13) var noise_sampler: sampler;
+#endif
 
 const NOISE_OCTAVES: u32 = #{VOLFOG_INJECT_NOISE_OCTAVES}u;
 const TILE_LIGHTS: u32 = 64u;
@@ -49,6 +71,7 @@ const HALF_MAX: f32 = 65504.0;
 
 var<workgroup> tile_lights: array<u32, 64>;
 var<workgroup> tile_count: atomic<u32>;
+var<workgroup> tile_sphere: vec4<f32>;
 
 fn world_of(id: vec3<u32>, offset: vec3<f32>) -> vec3<f32> {
     let view = froxel_view_position(
@@ -58,30 +81,35 @@ fn world_of(id: vec3<u32>, offset: vec3<f32>) -> vec3<f32> {
 
 @compute @workgroup_size(4, 4, 4)
 fn inject(
-    @builtin(global_invocation_id) id: vec3<u32>,
+    @builtin(global_invocation_id) invocation: vec3<u32>,
     @builtin(local_invocation_index) local_index: u32,
     @builtin(workgroup_id) group: vec3<u32>,
 ) {
-    // Bounding sphere of this 4 x 4 x 4 block of froxels (corners of its first and
-    // last froxel, whole-froxel extent so every jittered sample is inside).
-    let first = group * 4u;
-    let last = min(first + 3u, froxels.size - 1u);
-    let c0 = world_of(first, vec3<f32>(-0.5));
-    let c1 = world_of(last, vec3<f32>(0.5));
-    let c2 = world_of(vec3<u32>(first.xy, last.z), vec3<f32>(-0.5, -0.5, 0.5));
-    let c3 = world_of(vec3<u32>(last.x, first.y, last.z), vec3<f32>(0.5, -0.5, 0.5));
-    let c4 = world_of(vec3<u32>(first.x, last.y, last.z), vec3<f32>(-0.5, 0.5, 0.5));
-    let center = 0.5 * (c0 + c1);
-    let radius = max(max(distance(center, c0), distance(center, c1)),
-                     max(distance(center, c2), max(distance(center, c3), distance(center, c4))));
-
+    // The block of froxels this workgroup covers: 4 x 4 x 4, or 8 x 4 x 4 when every
+    // invocation picks one froxel of a pair along x.
+    let pairs = u32(frame.checkerboard != 0u);
+    let span = vec3<u32>(4u << pairs, 4u, 4u);
     if local_index == 0u {
+        // Bounding sphere of the block (corners of its first and last froxel,
+        // whole-froxel extent so every jittered sample is inside).
+        let first = group * span;
+        let last = min(first + span - 1u, froxels.size - 1u);
+        let c0 = world_of(first, vec3<f32>(-0.5));
+        let c1 = world_of(last, vec3<f32>(0.5));
+        let c2 = world_of(vec3<u32>(first.xy, last.z), vec3<f32>(-0.5, -0.5, 0.5));
+        let c3 = world_of(vec3<u32>(last.x, first.y, last.z), vec3<f32>(0.5, -0.5, 0.5));
+        let c4 = world_of(vec3<u32>(first.x, last.y, last.z), vec3<f32>(-0.5, 0.5, 0.5));
+        let center = 0.5 * (c0 + c1);
+        let radius = max(max(distance(center, c0), distance(center, c1)),
+                         max(distance(center, c2), max(distance(center, c3), distance(center, c4))));
+        tile_sphere = vec4<f32>(center, radius);
         atomicStore(&tile_count, 0u);
     }
     workgroupBarrier();
+    let sphere = tile_sphere;
     let light_count = min(fog_lighting.light_count, arrayLength(&lights));
     for (var i = local_index; i < light_count; i += 64u) {
-        if light_touches_sphere(lights[i], center, radius) {
+        if light_touches_sphere(lights[i], sphere.xyz, sphere.w) {
             let slot = atomicAdd(&tile_count, 1u);
             if slot < TILE_LIGHTS {
                 tile_lights[slot] = i;
@@ -91,9 +119,21 @@ fn inject(
     workgroupBarrier();
     let tile_light_count = min(atomicLoad(&tile_count), TILE_LIGHTS);
 
+    var id = invocation;
+    if pairs != 0u {
+        id.x = 2u * invocation.x;
+        if !froxel_injected(id, frame.index, 1u) {
+            id.x += 1u;
+        }
+    }
     if any(id >= froxels.size) {
         return;
     }
+#ifdef VOLFOG_FROXEL_CULL
+    if id.z >= textureLoad(live_slices, id.xy, 0).r {
+        return;
+    }
+#endif
 #ifdef VOLFOG_INJECT_JITTER
     let offset = frame.jitter;
 #else
@@ -105,7 +145,11 @@ fn inject(
     let view_dir = normalize(world - frame.camera_position);
 
     // Density.
+#ifdef VOLFOG_INJECT_NOISE_TEXTURE
+    let noise = noise_animated_texture(noise_texture, noise_sampler, world, fog_medium.noise_scale, fog_medium.wind, frame.time, NOISE_OCTAVES);
+#else
     let noise = noise_animated(world, fog_medium.noise_scale, fog_medium.wind, frame.time, NOISE_OCTAVES);
+#endif
 #ifdef VOLFOG_INJECT_DENSITY_TEXTURE
     let uvw = world * fog_medium.texture_scale + fog_medium.texture_offset - fog_medium.wind * frame.time * fog_medium.texture_scale;
     let texture_factor = textureSampleLevel(density_texture, density_sampler, uvw, 0.0).r;
@@ -118,9 +162,19 @@ fn inject(
         sigma_t += local_volume_density(local_volumes[i], world);
     }
     sigma_t = max(sigma_t, 0.0);
+    if sigma_t <= 0.0 {
+        textureStore(scattering, id, vec4<f32>(0.0));
+        return;
+    }
 
-    // Lighting.
-    let shadow = esm_shadow(esm_array, shadow_cascades, world, abs(view.z));
+    // Lighting. The cascade's matrix is read from the uniform with the varying index
+    // (see volfog::esm::esm_shadow_cascade).
+    let cascade = esm_cascade(abs(view.z), shadow_cascades.splits, shadow_cascades.count);
+    var shadow = 1.0;
+    if cascade < shadow_cascades.count {
+        shadow = esm_shadow_cascade(esm_array, shadow_cascades.light_from_world[cascade], cascade,
+            shadow_cascades.exponent, world);
+    }
 #ifdef VOLFOG_INJECT_TWO_COLOR_PHASE
     var light = sun_inscatter_two_color(fog_lighting.sun, shadow, view_dir);
 #else

@@ -7,7 +7,10 @@
 //      textureLoad, no sampler)
 //   2  texture_storage_3d<rgba16float, write>: integrated volume, rgb = in-scattered
 //      radiance from the near plane to the back of each slice, a = transmittance
-// Defines: VOLFOG_SCAN_WRONSKI_STEP (see volfog::scan).
+//   3  texture_2d<u32>: live slices per column from froxel_cull (VOLFOG_FROXEL_CULL only);
+//      slices behind them are not read, and their texels hold the value at the last
+//      live slice (nothing reads them; they stay defined)
+// Defines: VOLFOG_SCAN_WRONSKI_STEP (see volfog::scan), VOLFOG_FROXEL_CULL.
 // Reference: Wronski 2014, "Solving scattering equation" (RayMarchThroughVolume).
 
 #import volfog::types::Froxels
@@ -17,6 +20,9 @@
 @group(0) @binding(0) var<uniform> froxels: Froxels;
 @group(0) @binding(1) var scattering: texture_3d<f32>;
 @group(0) @binding(2) var integrated: texture_storage_3d<rgba16float, write>;
+#ifdef VOLFOG_FROXEL_CULL
+@group(0) @binding(3) var live_slices: texture_2d<u32>;
+#endif
 
 @compute @workgroup_size(8, 8, 1)
 fn scan(@builtin(global_invocation_id) id: vec3<u32>) {
@@ -27,9 +33,14 @@ fn scan(@builtin(global_invocation_id) id: vec3<u32>) {
     // Path length per metre of view depth along this column's centre ray.
     let scale = ray_scale(uv, froxels.view_from_clip);
     let slices = froxels.size.z;
+#ifdef VOLFOG_FROXEL_CULL
+    let live = min(textureLoad(live_slices, id.xy, 0).r, slices);
+#else
+    let live = slices;
+#endif
     var acc = SCAN_START;
     var front = froxels.near;
-    for (var k = 0u; k < slices; k++) {
+    for (var k = 0u; k < live; k++) {
         let back = slice_depth(f32(k + 1u) / f32(slices), froxels.near, froxels.far, froxels.curve);
         let medium = textureLoad(scattering, vec3<u32>(id.xy, k), 0);
         acc = scan_step(acc, medium, (back - front) * scale);
@@ -37,4 +48,10 @@ fn scan(@builtin(global_invocation_id) id: vec3<u32>) {
         textureStore(integrated, vec3<u32>(id.xy, k), min(acc, vec4<f32>(65504.0)));
         front = back;
     }
+#ifdef VOLFOG_FROXEL_CULL
+    let held = min(acc, vec4<f32>(65504.0));
+    for (var k = live; k < slices; k++) {
+        textureStore(integrated, vec3<u32>(id.xy, k), held);
+    }
+#endif
 }

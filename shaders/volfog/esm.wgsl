@@ -1,6 +1,6 @@
 // volfog::esm — exponential shadow maps for the fog's main light.
 //
-// Use:      #import volfog::esm::{esm_visibility, esm_cascade, ...}
+// Use:      #import volfog::esm::{esm_cascade, esm_shadow_cascade, esm_shadow, ...}
 // Defines:  VOLFOG_ESM_LOG_SPACE — the filtered maps hold log(mean(exp(c d))) instead of
 //           mean(exp(c d)), so exponents above 88 cannot overflow f32.
 // Data:     an ESM texel holds the filtered occluder term mean(exp(c * d)) of shadow-map
@@ -95,8 +95,30 @@ fn esm_shadow_coord(light_from_world: mat4x4<f32>, world: vec3<f32>) -> vec3<f32
     return vec3<f32>(ndc.x * 0.5 + 0.5, 0.5 - ndc.y * 0.5, ndc.z);
 }
 
+// Visibility in [0, 1] of the directional light at a world position in one cascade:
+// light_from_world is that cascade's matrix and layer its ESM array layer; 1 outside the
+// cascade's shadow map. Passes that hold the cascades in a uniform call this with
+// `cascades.light_from_world[esm_cascade(...)]` read from the uniform: indexing a
+// by-value ShadowCascades with a varying index makes some drivers copy the four
+// matrices to scratch memory per invocation (lavapipe: 40 % of the inject pass).
+fn esm_shadow_cascade(
+    esm: texture_2d_array<f32>,
+    light_from_world: mat4x4<f32>,
+    layer: u32,
+    exponent: f32,
+    world: vec3<f32>,
+) -> f32 {
+    let coord = esm_shadow_coord(light_from_world, world);
+    if any(coord.xy < vec2<f32>(0.0)) || any(coord.xy > vec2<f32>(1.0)) || coord.z > 1.0 {
+        return 1.0;
+    }
+    let occluder = esm_occluder(esm, coord.xy, layer);
+    return esm_visibility(occluder, clamp(coord.z, 0.0, 1.0), exponent);
+}
+
 // Visibility of the directional light at a world position and view depth, from the
-// cascades' filtered ESM array (1 outside every cascade).
+// cascades' filtered ESM array (1 outside every cascade). The cascade's matrix is
+// picked with constant indices (see esm_shadow_cascade for the faster form).
 fn esm_shadow(
     esm: texture_2d_array<f32>,
     cascades: ShadowCascades,
@@ -107,10 +129,13 @@ fn esm_shadow(
     if i >= cascades.count {
         return 1.0;
     }
-    let coord = esm_shadow_coord(cascades.light_from_world[i], world);
-    if any(coord.xy < vec2<f32>(0.0)) || any(coord.xy > vec2<f32>(1.0)) || coord.z > 1.0 {
-        return 1.0;
+    var light_from_world = cascades.light_from_world[0];
+    if i == 1u {
+        light_from_world = cascades.light_from_world[1];
+    } else if i == 2u {
+        light_from_world = cascades.light_from_world[2];
+    } else if i == 3u {
+        light_from_world = cascades.light_from_world[3];
     }
-    let occluder = esm_occluder(esm, coord.xy, i);
-    return esm_visibility(occluder, clamp(coord.z, 0.0, 1.0), cascades.exponent);
+    return esm_shadow_cascade(esm, light_from_world, i, cascades.exponent, world);
 }

@@ -102,3 +102,42 @@ fn froxel_view_position(
     let ray = view_from_ndc(vec3<f32>(ndc_from_uv(cell.xy), 0.5), view_from_clip);
     return ray * (depth / max(abs(ray.z), 1e-30));
 }
+
+// Depth culling. The apply pass and the forward snippet read, for a point at view depth
+// z, the integrated texels floor(s) - 1 and floor(s) with s = slice_coord(z) * N, and
+// integrated texel k depends on the scattering of slices 0..=k; the bilinear look-up in
+// x and y reads the columns whose centres lie within one column of the point. So a
+// column whose screen footprint, widened by half a column on every side, holds opaque
+// surfaces no farther than view depth z_max needs its first floor(s_max) + 1 slices;
+// froxel_live_slices adds one more so that the rounding of the depth conversion in
+// different passes cannot uncover a skipped slice. Transparent surfaces lie in front
+// of the opaque depth, so they read live slices too.
+
+// Number of leading slices (2..=slices) of a column that can be read when its farthest
+// opaque surface lies at view depth max_depth (m); depths beyond far give every slice.
+fn froxel_live_slices(max_depth: f32, slices: u32, near: f32, far: f32, curve: f32) -> u32 {
+    let s = slice_coord(max_depth, near, far, curve) * f32(slices);
+    let first = u32(clamp(floor(s), 0.0, f32(slices)));
+    return min(first + 2u, slices);
+}
+
+// The texels (inclusive min.xy, max.xy) of a depth texture of size texels that cover
+// froxel column `column` of a grid of `grid` columns, widened by half a column on each
+// side (the reach of the bilinear look-up); works for any depth resolution, e.g. a
+// conservative (farthest-depth) level of a hierarchical depth buffer.
+fn froxel_cull_footprint(column: vec2<u32>, grid: vec2<u32>, texels: vec2<u32>) -> vec4<u32> {
+    let scale = vec2<f32>(texels) / vec2<f32>(grid);
+    let lo = floor((vec2<f32>(column) - 0.5) * scale);
+    let hi = floor((vec2<f32>(column) + 1.5) * scale);
+    let top = vec2<f32>(texels) - 1.0;
+    let a = vec2<u32>(clamp(lo, vec2<f32>(0.0), top));
+    let b = vec2<u32>(clamp(hi, vec2<f32>(0.0), top));
+    return vec4<u32>(a, b);
+}
+
+// Whether froxel id is injected this frame when injection is amortised over two frames
+// in a 3D checkerboard (FogFrame.checkerboard = 1): the froxels with x + y + z + index
+// even; every face neighbour of a skipped froxel is injected.
+fn froxel_injected(id: vec3<u32>, index: u32, checkerboard: u32) -> bool {
+    return checkerboard == 0u || ((id.x + id.y + id.z + index) & 1u) == 0u;
+}

@@ -47,6 +47,10 @@ struct FogFrame {
     index: u32,
     // 0 to ignore the history this frame (after a camera cut), else 1.
     history_enabled: u32,
+    // 1 to amortise injection over two frames: inject writes only the froxels of one
+    // colour of a 3D checkerboard (volfog::froxel::froxel_injected) and temporal fills
+    // the others from the history; 0 to inject every froxel.
+    checkerboard: u32,
 }
 
 // What a history volume holds, written by the temporal pass beside the volume it

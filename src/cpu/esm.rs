@@ -173,6 +173,23 @@ pub fn esm_shadow_coord(light_from_world: Mat4, world: Vec3) -> Vec3 {
     Vec3::new(ndc.x * 0.5 + 0.5, 0.5 - ndc.y * 0.5, ndc.z)
 }
 
+/// Visibility of the directional light at a world position in one cascade (its
+/// matrix and ESM layer); 1 outside the cascade's shadow map.
+pub fn esm_shadow_cascade(
+    layer: &Layer,
+    light_from_world: Mat4,
+    exponent: f32,
+    world: Vec3,
+    log_space: bool,
+) -> f32 {
+    let coord = esm_shadow_coord(light_from_world, world);
+    if coord.x < 0.0 || coord.y < 0.0 || coord.x > 1.0 || coord.y > 1.0 || coord.z > 1.0 {
+        return 1.0;
+    }
+    let occluder = esm_occluder(layer, Vec2::new(coord.x, coord.y), log_space);
+    esm_visibility(occluder, coord.z.clamp(0.0, 1.0), exponent, log_space)
+}
+
 /// Visibility of the directional light at a world position and view depth.
 pub fn esm_shadow(
     layers: &[Layer],
@@ -185,15 +202,11 @@ pub fn esm_shadow(
     if i >= cascades.count {
         return 1.0;
     }
-    let coord = esm_shadow_coord(cascades.light_from_world[i as usize], world);
-    if coord.x < 0.0 || coord.y < 0.0 || coord.x > 1.0 || coord.y > 1.0 || coord.z > 1.0 {
-        return 1.0;
-    }
-    let occluder = esm_occluder(&layers[i as usize], Vec2::new(coord.x, coord.y), log_space);
-    esm_visibility(
-        occluder,
-        coord.z.clamp(0.0, 1.0),
+    esm_shadow_cascade(
+        &layers[i as usize],
+        cascades.light_from_world[i as usize],
         cascades.exponent,
+        world,
         log_space,
     )
 }

@@ -8,7 +8,7 @@
 //! assert!((slice_coord(8.0, near, far, curve) - 0.5).abs() < 1e-5);
 //! ```
 
-use glam::{Mat4, Vec2, Vec3, Vec4};
+use glam::{Mat4, UVec2, UVec3, Vec2, Vec3, Vec4};
 
 /// Below this curve the distribution uses its series in `curve`.
 pub const CURVE_LINEAR_LIMIT: f32 = 1e-3;
@@ -91,4 +91,73 @@ pub fn froxel_view_position(
     let n = ndc_from_uv(Vec2::new(cell.x, cell.y));
     let ray = view_from_ndc(Vec3::new(n.x, n.y, 0.5), view_from_clip);
     ray * (depth / ray.z.abs().max(1e-30))
+}
+
+/// Leading slices (2..=`slices`) of a froxel column that can be read when its farthest
+/// opaque surface lies at view depth `max_depth` (m).
+pub fn froxel_live_slices(max_depth: f32, slices: u32, near: f32, far: f32, curve: f32) -> u32 {
+    let s = slice_coord(max_depth, near, far, curve) * slices as f32;
+    let first = s.floor().clamp(0.0, slices as f32) as u32;
+    (first + 2).min(slices)
+}
+
+/// The texels (inclusive `[min_x, min_y, max_x, max_y]`) of a depth texture of size
+/// `texels` that cover froxel column `column` of a `grid`, widened by half a column on
+/// each side.
+pub fn froxel_cull_footprint(column: UVec2, grid: UVec2, texels: UVec2) -> [u32; 4] {
+    let scale = texels.as_vec2() / grid.as_vec2();
+    let lo = ((column.as_vec2() - 0.5) * scale).floor();
+    let hi = ((column.as_vec2() + 1.5) * scale).floor();
+    let top = texels.as_vec2() - 1.0;
+    let a = lo.clamp(Vec2::ZERO, top);
+    let b = hi.clamp(Vec2::ZERO, top);
+    [a.x as u32, a.y as u32, b.x as u32, b.y as u32]
+}
+
+/// Whether froxel `id` is injected in frame `index` (3D checkerboard amortisation
+/// when `checkerboard` is 1).
+pub fn froxel_injected(id: UVec3, index: u32, checkerboard: u32) -> bool {
+    checkerboard == 0 || (id.x + id.y + id.z + index) & 1 == 0
+}
+
+/// The froxel_cull pass: live slices per column (x fastest) of a grid from a depth
+/// buffer of `width` x `height` depth-buffer values (x fastest).
+pub fn live_slices_from_depth(
+    froxels: &crate::uniforms::Froxels,
+    depth: &[f32],
+    width: u32,
+    height: u32,
+) -> Vec<u32> {
+    let grid = froxels.size.truncate();
+    let texels = UVec2::new(width, height);
+    let mut out = Vec::with_capacity((grid.x * grid.y) as usize);
+    for y in 0..grid.y {
+        for x in 0..grid.x {
+            let [x0, y0, x1, y1] = froxel_cull_footprint(UVec2::new(x, y), grid, texels);
+            let (mut lo, mut hi) = (1.0f32, 0.0f32);
+            for ty in y0..=y1 {
+                for tx in x0..=x1 {
+                    // As the pass's max-then-min: a NaN texel reads as 0.
+                    let v = depth[(ty * width + tx) as usize];
+                    let d = if v.is_nan() { 0.0 } else { v.clamp(0.0, 1.0) };
+                    lo = lo.min(d);
+                    hi = hi.max(d);
+                }
+            }
+            let view_depth = |d: f32| {
+                view_from_ndc(Vec3::new(0.0, 0.0, d), froxels.view_from_clip)
+                    .z
+                    .abs()
+            };
+            let far = view_depth(lo).max(view_depth(hi));
+            out.push(froxel_live_slices(
+                far,
+                froxels.size.z,
+                froxels.near,
+                froxels.far,
+                froxels.curve,
+            ));
+        }
+    }
+    out
 }

@@ -10,7 +10,7 @@ use super::froxel::froxel_view_position;
 use super::lights::{
     ambient_inscatter, fog_light_inscatter, sun_inscatter, sun_inscatter_two_color,
 };
-use super::noise::noise_animated;
+use super::noise::{noise_animated, noise_animated_texture};
 use crate::options::InjectOptions;
 use crate::uniforms::{
     FogFrame, FogLight, FogLighting, FogMedium, Froxels, LocalVolume, ShadowCascades,
@@ -39,6 +39,10 @@ pub struct InjectInputs<'a> {
     pub options: InjectOptions,
     /// The density texture (`VOLFOG_INJECT_DENSITY_TEXTURE`); `None` reads 1.
     pub density_texture: Option<&'a DensityTexture>,
+    /// The baked noise texture (`VOLFOG_INJECT_NOISE_TEXTURE`, see
+    /// [`bake_noise_texture`](super::noise::bake_noise_texture)); `None` evaluates the
+    /// procedural noise.
+    pub noise_texture: Option<&'a DensityTexture>,
 }
 
 /// A 3D density texture (r channel) sampled trilinearly with repeat addressing, as the
@@ -107,13 +111,11 @@ pub fn froxel_scattering(inputs: &InjectInputs<'_>, id: UVec3) -> Vec4 {
         froxel_world_position(inputs.froxels, inputs.frame, id, inputs.options.jitter);
     let view_dir = (world - inputs.frame.camera_position).normalize();
     let m = inputs.medium;
-    let noise = noise_animated(
-        world,
-        m.noise_scale,
-        m.wind,
-        inputs.frame.time,
-        inputs.options.noise_octaves,
-    );
+    let (time, octaves) = (inputs.frame.time, inputs.options.noise_octaves);
+    let noise = match (inputs.options.noise_texture, inputs.noise_texture) {
+        (true, Some(t)) => noise_animated_texture(t, world, m.noise_scale, m.wind, time, octaves),
+        _ => noise_animated(world, m.noise_scale, m.wind, time, octaves),
+    };
     let texture_factor = match (inputs.options.density_texture, inputs.density_texture) {
         (true, Some(t)) => {
             let uvw = world * m.texture_scale + m.texture_offset

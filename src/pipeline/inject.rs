@@ -3,7 +3,7 @@
 
 use super::{
     bind_group, bind_group_layout, compute_pipeline, sampler_entry, shader_module,
-    storage_buffer_entry, storage_entry, texture_entry, uniform_entry,
+    storage_buffer_entry, storage_entry, texture_entry, uint_texture_entry, uniform_entry,
 };
 use crate::limits::InvalidValue;
 pub use crate::options::InjectOptions;
@@ -36,6 +36,11 @@ pub struct InjectResources<'a> {
     /// Density texture and its sampler (required by the density-texture variant,
     /// ignored by the others).
     pub density_texture: Option<(&'a wgpu::TextureView, &'a wgpu::Sampler)>,
+    /// The live-slice texture of `froxel_cull` (required by the depth-culling variant).
+    pub live_slices: Option<&'a wgpu::TextureView>,
+    /// The baked noise texture and its linear, repeat sampler (required by the
+    /// noise-texture variant).
+    pub noise_texture: Option<(&'a wgpu::TextureView, &'a wgpu::Sampler)>,
 }
 
 /// The compiled inject pass.
@@ -74,6 +79,13 @@ impl InjectPass {
             entries.push(texture_entry(9, c, wgpu::TextureViewDimension::D3, true));
             entries.push(sampler_entry(10, c, true));
         }
+        if options.depth_cull {
+            entries.push(uint_texture_entry(11));
+        }
+        if options.noise_texture {
+            entries.push(texture_entry(12, c, wgpu::TextureViewDimension::D3, true));
+            entries.push(sampler_entry(13, c, true));
+        }
         entries
     }
 
@@ -106,16 +118,33 @@ impl InjectPass {
             (7, r.local_volumes.as_entire_binding()),
             (8, wgpu::BindingResource::TextureView(r.scattering)),
         ];
+        let missing = |field: &'static str, what: &str| InvalidValue {
+            field,
+            value: "None".to_string(),
+            expected: format!("{what} for this variant").into(),
+        };
         if self.options.density_texture {
-            let Some((view, sampler)) = r.density_texture else {
-                return Err(InvalidValue {
-                    field: "InjectResources.density_texture",
-                    value: "None".to_string(),
-                    expected: "a texture and sampler for the density-texture variant".into(),
-                });
-            };
+            let (view, sampler) = r.density_texture.ok_or_else(|| {
+                missing("InjectResources.density_texture", "a texture and sampler")
+            })?;
             resources.push((9, wgpu::BindingResource::TextureView(view)));
             resources.push((10, wgpu::BindingResource::Sampler(sampler)));
+        }
+        if self.options.depth_cull {
+            let view = r
+                .live_slices
+                .ok_or_else(|| missing("InjectResources.live_slices", "a live-slice texture"))?;
+            resources.push((11, wgpu::BindingResource::TextureView(view)));
+        }
+        if self.options.noise_texture {
+            let (view, sampler) = r.noise_texture.ok_or_else(|| {
+                missing(
+                    "InjectResources.noise_texture",
+                    "the baked noise texture and its sampler",
+                )
+            })?;
+            resources.push((12, wgpu::BindingResource::TextureView(view)));
+            resources.push((13, wgpu::BindingResource::Sampler(sampler)));
         }
         Ok(bind_group(
             device,
@@ -125,17 +154,24 @@ impl InjectPass {
         ))
     }
 
-    /// Records the injection into a volume of `size` froxels.
+    /// Records the injection into a volume of `size` froxels; `checkerboard` must match
+    /// the frame's `FogFrame::checkerboard` (one invocation per pair of froxels along x).
     pub fn encode(
         &self,
         pass: &mut wgpu::ComputePass<'_>,
         group: &wgpu::BindGroup,
         size: [u32; 3],
+        checkerboard: bool,
     ) {
+        let columns = if checkerboard {
+            size[0].div_ceil(2)
+        } else {
+            size[0]
+        };
         pass.set_pipeline(&self.pipeline);
         pass.set_bind_group(0, group, &[]);
         pass.dispatch_workgroups(
-            size[0].div_ceil(WORKGROUP),
+            columns.div_ceil(WORKGROUP),
             size[1].div_ceil(WORKGROUP),
             size[2].div_ceil(WORKGROUP),
         );

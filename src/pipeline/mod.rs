@@ -7,10 +7,12 @@
 //! fog group, and the fullscreen apply), [`hull`] (Boyd's fog hulls).
 
 pub mod apply;
+pub mod cull;
 pub mod esm;
 mod fog;
 pub mod hull;
 pub mod inject;
+pub mod noise;
 pub mod scan;
 pub mod temporal;
 mod timestamps;
@@ -18,8 +20,9 @@ mod timestamps;
 use std::borrow::Cow;
 
 pub use fog::{
-    FogConfig, FogError, FogPass, FrameInputs, FrameUniforms, PassTimings, SHADOW_MAP_FORMATS,
-    VOLUME_FORMAT, VolumetricFog, cascade_projection, cascade_splits, check_device,
+    FogConfig, FogError, FogPass, FrameInputs, FrameUniforms, PassTimings, SCENE_DEPTH_FORMATS,
+    SHADOW_MAP_FORMATS, VOLUME_FORMAT, VolumetricFog, cascade_projection, cascade_splits,
+    check_device,
 };
 pub use timestamps::{TimestampError, TimestampPairs};
 
@@ -76,6 +79,21 @@ pub(crate) fn texture_entry(
         ty: wgpu::BindingType::Texture {
             sample_type: wgpu::TextureSampleType::Float { filterable },
             view_dimension: dimension,
+            multisampled: false,
+        },
+        count: None,
+    }
+}
+
+/// A 2D unsigned-integer texture layout entry (the live-slice texture of depth
+/// culling, read with textureLoad).
+pub(crate) fn uint_texture_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility: wgpu::ShaderStages::COMPUTE,
+        ty: wgpu::BindingType::Texture {
+            sample_type: wgpu::TextureSampleType::Uint,
+            view_dimension: wgpu::TextureViewDimension::D2,
             multisampled: false,
         },
         count: None,

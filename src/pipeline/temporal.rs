@@ -3,8 +3,10 @@
 
 use super::{
     bind_group, bind_group_layout, compute_pipeline, sampler_entry, shader_module,
-    storage_buffer_entry, storage_entry, texture_entry, uniform_entry,
+    storage_buffer_entry, storage_entry, texture_entry, uint_texture_entry, uniform_entry,
 };
+use crate::limits::InvalidValue;
+use crate::options::cull_defines;
 use crate::shaders::CodegenError;
 
 /// Workgroup size of the temporal pass (each axis).
@@ -27,11 +29,15 @@ pub struct TemporalResources<'a> {
     pub stabilised: &'a wgpu::TextureView,
     /// Its `HistoryState`, written by the dispatch.
     pub stabilised_state: &'a wgpu::Buffer,
+    /// Live slices of this frame and of the history (read by the culling variant
+    /// only; `None` for the other).
+    pub live_slices: Option<(&'a wgpu::TextureView, &'a wgpu::TextureView)>,
 }
 
 /// The compiled temporal pass.
 #[derive(Debug)]
 pub struct TemporalPass {
+    cull: bool,
     layout: wgpu::BindGroupLayout,
     pipeline: wgpu::ComputePipeline,
     sampler: wgpu::Sampler,
@@ -40,10 +46,11 @@ pub struct TemporalPass {
 impl TemporalPass {
     /// Layout: 0 `Froxels`, 1 `FogFrame`, 2 current volume (unfilterable read),
     /// 3 history (filterable), 4 linear sampler, 5 stabilised output, 6 the history's
-    /// `HistoryState` (read), 7 the stabilised volume's `HistoryState` (read-write).
-    pub fn layout_entries() -> [wgpu::BindGroupLayoutEntry; 8] {
+    /// `HistoryState` (read), 7 the stabilised volume's `HistoryState` (read-write);
+    /// with depth culling 8 and 9 the live slices of this frame and of the history.
+    pub fn layout_entries(cull: bool) -> Vec<wgpu::BindGroupLayoutEntry> {
         let c = wgpu::ShaderStages::COMPUTE;
-        [
+        let mut entries = vec![
             uniform_entry(0, c),
             uniform_entry(1, c),
             texture_entry(2, c, wgpu::TextureViewDimension::D3, false),
@@ -56,38 +63,59 @@ impl TemporalPass {
             ),
             storage_buffer_entry(6, c, true),
             storage_buffer_entry(7, c, false),
-        ]
+        ];
+        if cull {
+            entries.extend([uint_texture_entry(8), uint_texture_entry(9)]);
+        }
+        entries
     }
 
-    /// Compiles the pass.
-    pub fn new(device: &wgpu::Device) -> Result<Self, CodegenError> {
-        let module = shader_module(device, "temporal", &[])?;
-        let layout = bind_group_layout(device, "volfog temporal", &Self::layout_entries());
+    /// Compiles the pass (`cull`: the depth-culling variant, `VOLFOG_FROXEL_CULL`).
+    pub fn new(device: &wgpu::Device, cull: bool) -> Result<Self, CodegenError> {
+        let module = shader_module(device, "temporal", &cull_defines(cull))?;
+        let layout = bind_group_layout(device, "volfog temporal", &Self::layout_entries(cull));
         let pipeline = compute_pipeline(device, "volfog temporal", &module, "temporal", &layout);
         Ok(Self {
+            cull,
             layout,
             pipeline,
             sampler: super::apply::fog_sampler(device),
         })
     }
 
-    /// A bind group.
-    pub fn bind_group(&self, device: &wgpu::Device, r: &TemporalResources<'_>) -> wgpu::BindGroup {
-        bind_group(
+    /// A bind group; the culling variant requires `r.live_slices`.
+    pub fn bind_group(
+        &self,
+        device: &wgpu::Device,
+        r: &TemporalResources<'_>,
+    ) -> Result<wgpu::BindGroup, InvalidValue> {
+        let mut resources = vec![
+            (0, r.froxels.as_entire_binding()),
+            (1, r.frame.as_entire_binding()),
+            (2, wgpu::BindingResource::TextureView(r.current)),
+            (3, wgpu::BindingResource::TextureView(r.history)),
+            (4, wgpu::BindingResource::Sampler(&self.sampler)),
+            (5, wgpu::BindingResource::TextureView(r.stabilised)),
+            (6, r.history_state.as_entire_binding()),
+            (7, r.stabilised_state.as_entire_binding()),
+        ];
+        if self.cull {
+            let Some((live, history_live)) = r.live_slices else {
+                return Err(InvalidValue {
+                    field: "TemporalResources.live_slices",
+                    value: "None".to_string(),
+                    expected: "the live-slice textures for the depth-culling variant".into(),
+                });
+            };
+            resources.push((8, wgpu::BindingResource::TextureView(live)));
+            resources.push((9, wgpu::BindingResource::TextureView(history_live)));
+        }
+        Ok(bind_group(
             device,
             "volfog temporal",
             &self.layout,
-            &[
-                (0, r.froxels.as_entire_binding()),
-                (1, r.frame.as_entire_binding()),
-                (2, wgpu::BindingResource::TextureView(r.current)),
-                (3, wgpu::BindingResource::TextureView(r.history)),
-                (4, wgpu::BindingResource::Sampler(&self.sampler)),
-                (5, wgpu::BindingResource::TextureView(r.stabilised)),
-                (6, r.history_state.as_entire_binding()),
-                (7, r.stabilised_state.as_entire_binding()),
-            ],
-        )
+            &resources,
+        ))
     }
 
     /// Records the pass over a volume of `size` froxels.

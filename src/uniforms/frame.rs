@@ -24,6 +24,9 @@ pub struct FogFrame {
     pub index: u32,
     /// 0 to ignore the history this frame (after a camera cut), else 1.
     pub history_enabled: u32,
+    /// 1 to amortise injection over two frames in a 3D checkerboard (the froxels with
+    /// `x + y + z + index` even are injected, temporal fills the others), else 0.
+    pub checkerboard: u32,
 }
 
 /// What a history volume holds (WGSL `volfog::types::HistoryState`): written on the

@@ -251,6 +251,7 @@ pub fn expected_uniforms(
             history_weight: config.history_weight,
             index,
             history_enabled: if inputs.reset_history { 0 } else { 1 },
+            checkerboard: u32::from(config.amortize),
         },
         medium: FogMedium {
             local_volume_count: inputs.local_volumes.len() as u32,
@@ -267,4 +268,21 @@ pub fn expected_uniforms(
         tail: inputs.tail.to_view_space(view_from_world),
         view: FogView { view_from_world },
     }
+}
+
+/// The fraction of its froxels that a fog with depth culling processed in the prepared
+/// frame (the sum of its live slices over the volume); `None` without culling.
+pub fn live_fraction(gpu: &Gpu, fog: &VolumetricFog) -> Result<Option<f64>, crate::GpuError> {
+    let Some(texture) = fog.live_slices_texture() else {
+        return Ok(None);
+    };
+    let raw = gpu.read_texture_raw(texture, 4)?;
+    let live: u64 = bytemuck::cast_slice::<u8, u32>(&raw)
+        .iter()
+        .map(|v| u64::from(*v))
+        .sum();
+    let size = fog.config().volume_size;
+    Ok(Some(
+        live as f64 / (f64::from(size.x) * f64::from(size.y) * f64::from(size.z)),
+    ))
 }

@@ -58,21 +58,56 @@ pub fn run_scan(
     froxels: &Froxels,
     medium: &[Vec4],
 ) -> Result<Vec<Vec4>, GpuError> {
+    run_scan_culled(gpu, step, froxels, medium, None)
+}
+
+/// A live-slice texture of `columns` holding `values` (x fastest).
+pub fn live_slices_texture(gpu: &Gpu, columns: [u32; 2], values: &[u32]) -> wgpu::Texture {
+    let texture = volfog::pipeline::cull::live_slices_texture(&gpu.device, "live", columns);
+    let bytes: Vec<u8> = values.iter().flat_map(|v| v.to_le_bytes()).collect();
+    gpu.queue.write_texture(
+        texture.as_image_copy(),
+        &bytes,
+        wgpu::TexelCopyBufferLayout {
+            offset: 0,
+            bytes_per_row: Some(4 * columns[0]),
+            rows_per_image: Some(columns[1]),
+        },
+        texture.size(),
+    );
+    texture
+}
+
+/// [`run_scan`] of the depth-culling variant when `live` holds the live slices per
+/// column (x fastest; `size.x * size.y` values).
+pub fn run_scan_culled(
+    gpu: &Gpu,
+    step: ScanStep,
+    froxels: &Froxels,
+    medium: &[Vec4],
+    live: Option<&[u32]>,
+) -> Result<Vec<Vec4>, GpuError> {
     let size = froxels.size.to_array();
     let pass = gpu
-        .checked(|| ScanPass::new(&gpu.device, step))?
+        .checked(|| ScanPass::new(&gpu.device, step, live.is_some()))?
         .map_err(|e| GpuError::Operation(e.to_string()))?;
     let froxel_buffer = uniform_buffer(gpu, "froxels", &froxels.to_bytes());
     let scattering = gpu.texture_3d_rgba16f("scattering", size, medium);
     let integrated = gpu.texture_3d_rgba16f("integrated", size, &[]);
-    let bind_group = gpu.checked(|| {
-        pass.bind_group(
-            &gpu.device,
-            &froxel_buffer,
-            &scattering.create_view(&Default::default()),
-            &integrated.create_view(&Default::default()),
-        )
-    })?;
+    let live_texture = live.map(|values| {
+        live_slices_texture(gpu, [size[0], size[1]], values).create_view(&Default::default())
+    });
+    let bind_group = gpu
+        .checked(|| {
+            pass.bind_group(
+                &gpu.device,
+                &froxel_buffer,
+                &scattering.create_view(&Default::default()),
+                &integrated.create_view(&Default::default()),
+                live_texture.as_ref(),
+            )
+        })?
+        .map_err(|e| GpuError::Operation(e.to_string()))?;
     let mut encoder = gpu.device.create_command_encoder(&Default::default());
     {
         let mut compute = encoder.begin_compute_pass(&Default::default());

@@ -75,6 +75,7 @@ fn inject_matches_cpu_mirror_for_a_full_scene() {
             local_volumes: &volumes,
             options: config.inject_options(),
             density_texture: None,
+            noise_texture: None,
         };
         let size = config.volume_size;
         let mut worst = 0.0f32;
@@ -600,6 +601,7 @@ fn density_texture_variant_matches_cpu_mirror() {
         local_volumes: &[],
         options: config.inject_options(),
         density_texture: Some(&reference),
+        noise_texture: None,
     };
     let s = config.volume_size;
     let (mut worst, mut lo, mut hi) = (0.0f32, f32::MAX, 0.0f32);

@@ -55,6 +55,14 @@ fn every_invalid_config_field_is_a_typed_error() {
             },
             "FogConfig.volume_size",
         ),
+        (
+            FogConfig {
+                temporal: false,
+                amortize: true,
+                ..d()
+            },
+            "FogConfig.amortize",
+        ),
         (FogConfig { near: 0.0, ..d() }, "FogConfig.near"),
         (
             FogConfig {
@@ -433,6 +441,80 @@ fn shadow_maps_are_checked_against_the_cascades() {
     fog.set_shadow_map(&gpu.device, &shadow_map(gpu, &layers))
         .unwrap();
     fog.prepare(&gpu.queue, &inputs).unwrap();
+}
+
+/// A scene depth for culling must be single-sampled, 2D, in a depth format or
+/// R32Float, have the mip level read and TEXTURE_BINDING usage, and the fog must cull;
+/// each mismatch is a typed error naming the property.
+#[test]
+fn scene_depths_are_checked() {
+    let gpu = gpu();
+    let texture = |format, usage, mips: u32, samples: u32| {
+        gpu.device.create_texture(&wgpu::TextureDescriptor {
+            label: Some("scene depth"),
+            size: wgpu::Extent3d {
+                width: 64,
+                height: 36,
+                depth_or_array_layers: 1,
+            },
+            mip_level_count: mips,
+            sample_count: samples,
+            dimension: wgpu::TextureDimension::D2,
+            format,
+            usage,
+            view_formats: &[],
+        })
+    };
+    let depth = wgpu::TextureFormat::Depth32Float;
+    let binding = wgpu::TextureUsages::TEXTURE_BINDING;
+    let attachment = wgpu::TextureUsages::RENDER_ATTACHMENT;
+    let good = texture(depth, binding | attachment, 1, 1);
+    let mut plain = VolumetricFog::new(
+        &gpu.device,
+        &FogConfig {
+            depth_cull: false,
+            ..small_config()
+        },
+    )
+    .unwrap();
+    match plain.set_scene_depth(&gpu.device, &good, 0) {
+        Err(FogError::Invalid(e)) => assert_eq!(e.field, "FogConfig.depth_cull", "{e}"),
+        other => panic!("a fog without culling took a scene depth: {other:?}"),
+    }
+    let mut fog = VolumetricFog::new(
+        &gpu.device,
+        &FogConfig {
+            depth_cull: true,
+            ..small_config()
+        },
+    )
+    .unwrap();
+    for (bad, mip, property) in [
+        (
+            texture(wgpu::TextureFormat::Rgba8Unorm, binding, 1, 1),
+            0,
+            "format",
+        ),
+        (texture(depth, attachment, 1, 1), 0, "usage"),
+        (
+            texture(depth, binding | attachment, 1, 4),
+            0,
+            "sample count",
+        ),
+        (
+            texture(depth, binding | attachment, 1, 1),
+            1,
+            "mip level count",
+        ),
+    ] {
+        match fog.set_scene_depth(&gpu.device, &bad, mip) {
+            Err(FogError::Texture { property: p, .. }) => assert_eq!(p, property),
+            other => panic!("{property}: expected a texture error, got {other:?}"),
+        }
+    }
+    fog.set_scene_depth(&gpu.device, &good, 0).unwrap();
+    let r32 = texture(wgpu::TextureFormat::R32Float, binding, 2, 1);
+    fog.set_scene_depth(&gpu.device, &r32, 1).unwrap();
 }
 
 /// `reconfigure` keeps the shadow map and the density texture (and, when the new

@@ -84,3 +84,49 @@ fn heterogeneous_scan_matches_cpu_mirror() {
         );
     }
 }
+
+/// The depth-culling variant: the slices in front of each column's live count equal
+/// the full scan, and the texels behind hold the value at the last live slice.
+#[test]
+fn culled_scan_matches_full_scan_in_front_and_holds_behind() {
+    let gpu = gpu();
+    let froxels = test_froxels([24, 14], 40);
+    let [sx, sy, sz] = froxels.size.to_array();
+    let medium: Vec<Vec4> = (0..sx * sy * sz)
+        .map(|i| {
+            let h = ((i * 7) % 23) as f32 / 23.0;
+            Vec4::new(0.02 * h, 0.03, 0.01 + 0.02 * h, 0.01 + 0.04 * h)
+        })
+        .collect();
+    let live: Vec<u32> = (0..sx * sy).map(|c| 2 + (c * 11) % (sz - 1)).collect();
+    let full = run_scan(gpu, ScanStep::EnergyConserving, &froxels, &medium).unwrap();
+    let culled = volfog_testkit::selfcheck::run_scan_culled(
+        gpu,
+        ScanStep::EnergyConserving,
+        &froxels,
+        &medium,
+        Some(&live),
+    )
+    .unwrap();
+    let (mut in_front, mut behind) = (0, 0);
+    for z in 0..sz {
+        for y in 0..sy {
+            for x in 0..sx {
+                let i = ((z * sy + y) * sx + x) as usize;
+                let l = live[(y * sx + x) as usize];
+                if z < l {
+                    assert_eq!(culled[i], full[i], "live texel {x},{y},{z}");
+                    in_front += 1;
+                } else {
+                    let last = (((l - 1) * sy + y) * sx + x) as usize;
+                    assert_eq!(culled[i], full[last], "held texel {x},{y},{z}");
+                    behind += 1;
+                }
+            }
+        }
+    }
+    eprintln!(
+        "culled scan: {in_front} live texels equal the full scan, {behind} hold the last live value"
+    );
+    assert!(in_front > 0 && behind > 0);
+}

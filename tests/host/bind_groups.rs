@@ -3,8 +3,8 @@
 //! buffer type, texture sample type and dimension, storage format and access, sampler
 //! type, and a visibility that includes every stage that uses it.
 
-use volfog::options::{Filtering, InjectOptions};
-use volfog::pipeline::{apply, esm, hull, inject, scan, temporal};
+use volfog::options::{CULL_DEFINE, Filtering, InjectOptions};
+use volfog::pipeline::{apply, cull, esm, hull, inject, noise, scan, temporal};
 use volfog_codegen::Stage;
 use volfog_codegen::reflect::Resource;
 use volfog_codegen::translate::VariantOutput;
@@ -176,12 +176,23 @@ fn check_entries(
 #[test]
 fn runtime_layouts_match_the_shaders() {
     let mut checked = 0;
-    for name in ["scan@default", "scan@SCAN_WRONSKI_STEP"] {
-        checked += check(name, &[(0, scan::ScanPass::layout_entries().to_vec())]);
+    for v in volfog_codegen::manifest::variants()
+        .into_iter()
+        .filter(|v| v.pass.name == "scan")
+    {
+        let cull = v.defines.contains(&CULL_DEFINE);
+        checked += check(&v.name, &[(0, scan::ScanPass::layout_entries(cull))]);
+    }
+    for (name, cull) in [("temporal@default", false), ("temporal@FROXEL_CULL", true)] {
+        checked += check(name, &[(0, temporal::TemporalPass::layout_entries(cull))]);
     }
     checked += check(
-        "temporal@default",
-        &[(0, temporal::TemporalPass::layout_entries().to_vec())],
+        "froxel_cull@default",
+        &[(0, cull::FroxelCullPass::layout_entries().to_vec())],
+    );
+    checked += check(
+        "noise_bake@default",
+        &[(0, noise::NoiseBake::layout_entries().to_vec())],
     );
     for name in ["esm_downsample@default", "esm_downsample@ESM_LOG_SPACE"] {
         checked += check(name, &[(0, esm::EsmPasses::downsample_entries().to_vec())]);
@@ -195,6 +206,8 @@ fn runtime_layouts_match_the_shaders() {
     {
         let options = InjectOptions {
             density_texture: v.defines.contains(&"VOLFOG_INJECT_DENSITY_TEXTURE"),
+            noise_texture: v.defines.contains(&"VOLFOG_INJECT_NOISE_TEXTURE"),
+            depth_cull: v.defines.contains(&CULL_DEFINE),
             ..InjectOptions::default()
         };
         checked += check(
@@ -231,7 +244,7 @@ fn runtime_layouts_match_the_shaders() {
 /// loads, and a missing binding.
 #[test]
 fn a_wrong_layout_is_caught() {
-    let mut wrong = scan::ScanPass::layout_entries().to_vec();
+    let mut wrong = scan::ScanPass::layout_entries(false);
     if let wgpu::BindingType::Texture { sample_type, .. } = &mut wrong[1].ty {
         *sample_type = wgpu::TextureSampleType::Float { filterable: true };
     }

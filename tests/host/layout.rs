@@ -136,6 +136,7 @@ fn rust_layouts() -> BTreeMap<&'static str, Measured> {
             history_weight: f32,
             index: u32,
             history_enabled: u32,
+            checkerboard: u32,
         }),
         measure!(HistoryState {
             clip_from_world: Mat4,

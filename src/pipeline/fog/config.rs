@@ -47,6 +47,19 @@ pub struct FogConfig {
     /// Multiply the density by a 3D texture (see
     /// [`VolumetricFog::set_density_texture`](super::VolumetricFog::set_density_texture)).
     pub density_texture: bool,
+    /// Skip the froxels behind the farthest opaque surface of their screen tile in
+    /// inject, temporal and scan (`VOLFOG_FROXEL_CULL`), once a scene depth is set
+    /// ([`VolumetricFog::set_scene_depth`](super::VolumetricFog::set_scene_depth));
+    /// without one every froxel is live.
+    pub depth_cull: bool,
+    /// Amortise injection over two frames: inject one colour of a 3D checkerboard per
+    /// frame and let temporal reprojection fill the other (needs `temporal`). Halves
+    /// the injection; lighting changes then take about twice as many frames to settle.
+    pub amortize: bool,
+    /// Read the density noise from a tileable texture baked once on the GPU
+    /// (`VOLFOG_INJECT_NOISE_TEXTURE`, see `volfog::noise`) instead of evaluating
+    /// Perlin noise per froxel.
+    pub noise_texture: bool,
     /// Filtering of the integrated volume where fog is applied (the fog group's layout).
     pub apply_filtering: Filtering,
     /// Record GPU timestamps per pass (needs `Features::TIMESTAMP_QUERY`).
@@ -76,6 +89,9 @@ impl Default for FogConfig {
             two_color_phase: inject.two_color_phase,
             noise_octaves: inject.noise_octaves,
             density_texture: inject.density_texture,
+            depth_cull: true,
+            amortize: false,
+            noise_texture: inject.noise_texture,
             apply_filtering: Filtering::Sampler,
             timestamps: false,
         }
@@ -105,7 +121,13 @@ impl FogConfig {
         limits::LIGHTS.check("FogConfig.max_lights", self.max_lights)?;
         limits::LOCAL_VOLUMES.check("FogConfig.max_local_volumes", self.max_local_volumes)?;
         limits::HISTORY_WEIGHT.check("FogConfig.history_weight", self.history_weight)?;
-        limits::NOISE_OCTAVES.check("FogConfig.noise_octaves", self.noise_octaves)
+        limits::NOISE_OCTAVES.check("FogConfig.noise_octaves", self.noise_octaves)?;
+        limits::check(
+            !self.amortize || self.temporal,
+            "FogConfig.amortize",
+            self.amortize,
+            "false unless FogConfig.temporal is true (the skipped froxels come from the history)",
+        )
     }
 
     /// The options of the inject variant.
@@ -115,6 +137,8 @@ impl FogConfig {
             two_color_phase: self.two_color_phase,
             density_texture: self.density_texture,
             esm_log_space: self.esm_log_space,
+            noise_texture: self.noise_texture,
+            depth_cull: self.depth_cull,
             noise_octaves: self.noise_octaves,
         }
     }

@@ -165,6 +165,7 @@ impl FrameInputs<'_> {
             history_weight: config.history_weight,
             index,
             history_enabled: u32::from(!self.reset_history),
+            checkerboard: u32::from(config.amortize),
         };
         Ok(FrameUniforms {
             froxels,
@@ -192,6 +193,8 @@ impl FrameInputs<'_> {
 /// GPU time per pass in milliseconds (when timestamps are enabled and supported).
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct PassTimings {
+    /// Depth culling (froxel_cull).
+    pub cull: f64,
     /// ESM downsample.
     pub esm_downsample: f64,
     /// ESM blur (both directions).
@@ -214,7 +217,8 @@ impl PassTimings {
             inject: ms[2],
             temporal: ms[3],
             scan: ms[4],
-            apply: ms[5],
+            cull: ms[5],
+            apply: ms[6],
         }
     }
 }
@@ -236,11 +240,15 @@ pub enum FogPass {
     Temporal,
     /// Front-to-back integration.
     Scan,
+    /// Live slices per froxel column from the scene depth (only with
+    /// `FogConfig::depth_cull` and a scene depth set); recorded first.
+    Cull,
 }
 
 impl FogPass {
     /// Every pass, in order.
-    pub const ALL: [FogPass; 5] = [
+    pub const ALL: [FogPass; 6] = [
+        FogPass::Cull,
         FogPass::EsmDownsample,
         FogPass::EsmBlur,
         FogPass::Inject,
@@ -248,16 +256,16 @@ impl FogPass {
         FogPass::Scan,
     ];
 
-    /// Its timestamp pair (the apply pass is pair 5).
+    /// Its timestamp pair (the apply pass is pair 6).
     pub(crate) fn timestamp_pair(self) -> u32 {
         self as u32
     }
 }
 
-/// Timestamp pairs: the five compute passes and the apply.
-pub(crate) const TIMESTAMP_PAIRS: u32 = 6;
+/// Timestamp pairs: the six compute passes and the apply.
+pub(crate) const TIMESTAMP_PAIRS: u32 = 7;
 /// The timestamp pair of the apply pass.
-pub(crate) const APPLY_PAIR: u32 = 5;
+pub(crate) const APPLY_PAIR: u32 = 6;
 
 #[cfg(test)]
 mod tests {

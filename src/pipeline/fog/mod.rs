@@ -46,11 +46,13 @@ pub use cascades::{cascade_projection, cascade_splits};
 pub use config::FogConfig;
 pub use error::FogError;
 pub use inputs::{FogPass, FrameInputs, FrameUniforms, PassTimings};
-pub use resources::{SHADOW_MAP_FORMATS, VOLUME_FORMAT, check_device};
+pub use resources::{SCENE_DEPTH_FORMATS, SHADOW_MAP_FORMATS, VOLUME_FORMAT, check_device};
 
 use super::apply::{ApplyPipeline, FogResources, fog_bind_group, fog_layout_entries, fog_sampler};
+use super::cull::{FroxelCullPass, live_slices_texture, write_all_live};
 use super::esm::EsmPasses;
 use super::inject::{InjectPass, InjectResources};
+use super::noise::{NoiseBake, noise_sampler};
 use super::scan::ScanPass;
 use super::temporal::{TemporalPass, TemporalResources};
 use super::timestamps::TimestampPairs;
@@ -59,8 +61,8 @@ use crate::uniforms::{
     LocalVolume, ShadowCascades,
 };
 use resources::{
-    array_view, check_density_texture, check_shadow_map, esm_texture, storage_buffer,
-    texture_bytes, uniform_buffer, volume_texture,
+    array_view, check_density_texture, check_scene_depth, check_shadow_map, esm_texture,
+    storage_buffer, texture_bytes, uniform_buffer, volume_texture,
 };
 
 /// The uniform and storage buffers of the fog.
@@ -151,6 +153,32 @@ struct Density {
     sampler: wgpu::Sampler,
 }
 
+/// Depth culling: the cull pass, the live-slice textures of both parities (the one of
+/// parity p is written with the history volume p), and the cull bind groups of the
+/// scene depth when one is set.
+#[derive(Debug)]
+struct Culling {
+    pass: FroxelCullPass,
+    live: [wgpu::Texture; 2],
+    views: [wgpu::TextureView; 2],
+    /// The scene depth, its mip level and the cull groups of both parities.
+    depth: Option<(wgpu::Texture, u32, [wgpu::BindGroup; 2])>,
+    /// Whether both textures hold "every slice live" (written by `prepare` while no
+    /// scene depth is set).
+    all_live: bool,
+}
+
+/// The baked noise texture of the noise-texture variant: baked by the first `prepare`
+/// (one submission of its own), then only read.
+#[derive(Debug)]
+struct Noise {
+    device: wgpu::Device,
+    pass: NoiseBake,
+    texture: wgpu::Texture,
+    sampler: wgpu::Sampler,
+    baked: bool,
+}
+
 /// The shadow map and the downsample bind group reading it.
 #[derive(Debug)]
 struct ShadowMap {
@@ -175,8 +203,11 @@ pub struct VolumetricFog {
     esm_scratch: wgpu::Texture,
     blur_groups: [wgpu::BindGroup; 2],
     density: Option<Density>,
-    inject_group: wgpu::BindGroup,
-    scan_groups: Vec<wgpu::BindGroup>,
+    culling: Option<Culling>,
+    noise: Option<Noise>,
+    /// Inject bind groups by frame parity (they differ in the live-slice texture).
+    inject_groups: [wgpu::BindGroup; 2],
+    scan_groups: [wgpu::BindGroup; 2],
     shadow_map: Option<ShadowMap>,
     fog_layout: wgpu::BindGroupLayout,
     fog_group: wgpu::BindGroup,
@@ -207,13 +238,28 @@ impl VolumetricFog {
         let size = config.volume_size;
         let esm = EsmPasses::new(device, &config.esm_options())?;
         let inject = InjectPass::new(device, config.inject_options())?;
-        let scan = ScanPass::new(device, config.scan_step)?;
+        let scan = ScanPass::new(device, config.scan_step, config.depth_cull)?;
         let buffers = Buffers::new(device, config);
+        let culling = if config.depth_cull {
+            let columns = [size.x, size.y];
+            let live = [0, 1]
+                .map(|i| live_slices_texture(device, &format!("volfog live slices {i}"), columns));
+            Some(Culling {
+                pass: FroxelCullPass::new(device)?,
+                views: [view(&live[0]), view(&live[1])],
+                live,
+                depth: None,
+                all_live: false,
+            })
+        } else {
+            None
+        };
+        let live_view = |p: usize| culling.as_ref().map(|c| &c.views[p]);
 
         let scattering = volume_texture(device, "volfog scattering", size);
         let scattering_view = view(&scattering);
         let temporal = if config.temporal {
-            let pass = TemporalPass::new(device)?;
+            let pass = TemporalPass::new(device, config.depth_cull)?;
             let volumes =
                 [0, 1].map(|i| volume_texture(device, &format!("volfog history {i}"), size));
             let state_bytes = uniforms::to_storage_bytes(&[HistoryState::default()]).len();
@@ -239,8 +285,10 @@ impl VolumetricFog {
                         history_state: &states[1 - p],
                         stabilised: &views[p],
                         stabilised_state: &states[p],
+                        live_slices: live_view(p).zip(live_view(1 - p)),
                     },
                 )
+                .expect("the fog binds live slices whenever it culls")
             });
             Some(Temporal {
                 pass,
@@ -253,17 +301,17 @@ impl VolumetricFog {
         };
         let integrated =
             (!config.temporal).then(|| volume_texture(device, "volfog integrated", size));
-        let scan_groups = match (&temporal, &integrated) {
-            (Some(t), _) => t
-                .volumes
-                .iter()
-                .map(|v| scan.bind_group(device, &buffers.froxels, &view(v), &scattering_view))
-                .collect(),
-            (None, Some(out)) => {
-                vec![scan.bind_group(device, &buffers.froxels, &scattering_view, &view(out))]
-            }
-            (None, None) => unreachable!("the integrated volume exists without temporal"),
-        };
+        // Parity p scans stabilised volume p (or the scattering volume) with live
+        // slices p.
+        let scan_groups = [0, 1].map(|p| {
+            let (input, output) = match (&temporal, &integrated) {
+                (Some(t), _) => (view(&t.volumes[p]), scattering_view.clone()),
+                (None, Some(out)) => (scattering_view.clone(), view(out)),
+                (None, None) => unreachable!("the integrated volume exists without temporal"),
+            };
+            scan.bind_group(device, &buffers.froxels, &input, &output, live_view(p))
+                .expect("the fog binds live slices whenever it culls")
+        });
 
         let esm_texture = esm_texture(device, "volfog esm", config.esm_resolution, config.cascades);
         let esm_scratch = esm_texture_scratch(device, config);
@@ -278,14 +326,31 @@ impl VolumetricFog {
             unit_written: false,
             sampler: density_sampler(device),
         });
-        let inject_group = inject_bind_group(
-            device,
-            &inject,
-            &buffers,
-            &esm_view,
-            &scattering_view,
-            density.as_ref(),
-        );
+        let noise = if config.noise_texture {
+            Some(Noise {
+                device: device.clone(),
+                pass: NoiseBake::new(device)?,
+                texture: NoiseBake::create_texture(device),
+                sampler: noise_sampler(device),
+                baked: false,
+            })
+        } else {
+            None
+        };
+        let inject_groups = [0, 1].map(|p| {
+            inject_bind_group(
+                device,
+                &inject,
+                &buffers,
+                &esm_view,
+                &scattering_view,
+                InjectTextures {
+                    density: density.as_ref(),
+                    live_slices: live_view(p),
+                    noise: noise.as_ref(),
+                },
+            )
+        });
 
         let fog_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("volfog fog (volfog::bindings)"),
@@ -324,7 +389,9 @@ impl VolumetricFog {
             esm_scratch,
             blur_groups,
             density,
-            inject_group,
+            culling,
+            noise,
+            inject_groups,
             scan_groups,
             shadow_map: None,
             fog_layout,
@@ -341,8 +408,9 @@ impl VolumetricFog {
     }
 
     /// Replaces the configuration, recreating every resource; the history starts over.
-    /// The shadow map and density texture set before are kept (checked against the new
-    /// configuration). On error nothing changes.
+    /// The shadow map, density texture and scene depth set before are kept (checked
+    /// against the new configuration; the last two only where it still uses them). On
+    /// error nothing changes.
     pub fn reconfigure(
         &mut self,
         device: &wgpu::Device,
@@ -356,6 +424,11 @@ impl VolumetricFog {
             && config.density_texture
         {
             next.set_density_texture(device, &density.texture)?;
+        }
+        if let Some((texture, mip_level, _)) = self.culling.as_ref().and_then(|c| c.depth.as_ref())
+            && config.depth_cull
+        {
+            next.set_scene_depth(device, texture, *mip_level)?;
         }
         *self = next;
         Ok(())
@@ -407,15 +480,79 @@ impl VolumetricFog {
         check_density_texture(texture, device)?;
         density.texture = texture.clone();
         density.user = true;
-        self.inject_group = inject_bind_group(
-            device,
-            &self.inject,
-            &self.buffers,
-            &array_view(&self.esm_texture),
-            &view(&self.scattering),
-            self.density.as_ref(),
-        );
+        let live = |p: usize| self.culling.as_ref().map(|c| &c.views[p]);
+        self.inject_groups = [0, 1].map(|p| {
+            inject_bind_group(
+                device,
+                &self.inject,
+                &self.buffers,
+                &array_view(&self.esm_texture),
+                &view(&self.scattering),
+                InjectTextures {
+                    density: self.density.as_ref(),
+                    live_slices: live(p),
+                    noise: self.noise.as_ref(),
+                },
+            )
+        });
         Ok(())
+    }
+
+    /// Culls froxels by the scene depth (needs `FogConfig::depth_cull`): every frame,
+    /// before injection, the `froxel_cull` pass finds for each froxel column how many
+    /// slices lie in front of the farthest opaque surface over the column's screen
+    /// footprint, and inject, temporal and scan skip the others. `texture` holds
+    /// depth-buffer values of this frame's camera (standard, reversed or infinite
+    /// projection), written before [`VolumetricFog::encode`] runs: the depth buffer
+    /// itself (a depth format, single-sampled) or any R32Float texture covering the
+    /// screen that is no nearer than it, such as a farthest-depth level of a
+    /// hierarchical depth buffer; `mip_level` picks the level read. Needs
+    /// `TEXTURE_BINDING` usage. Transparent surfaces, which lie in front of the opaque
+    /// depth, read live froxels through the forward snippet as before.
+    pub fn set_scene_depth(
+        &mut self,
+        device: &wgpu::Device,
+        texture: &wgpu::Texture,
+        mip_level: u32,
+    ) -> Result<(), FogError> {
+        let Some(culling) = self.culling.as_mut() else {
+            return Err(FogError::Invalid(crate::limits::InvalidValue {
+                field: "FogConfig.depth_cull",
+                value: "false".to_string(),
+                expected: "true to cull froxels by a scene depth".into(),
+            }));
+        };
+        check_scene_depth(texture, mip_level)?;
+        let depth_view = texture.create_view(&wgpu::TextureViewDescriptor {
+            dimension: Some(wgpu::TextureViewDimension::D2),
+            aspect: if texture.format().has_depth_aspect() {
+                wgpu::TextureAspect::DepthOnly
+            } else {
+                wgpu::TextureAspect::All
+            },
+            base_mip_level: mip_level,
+            mip_level_count: Some(1),
+            ..Default::default()
+        });
+        let groups = [0, 1].map(|p| {
+            culling.pass.bind_group(
+                device,
+                &self.buffers.froxels,
+                &depth_view,
+                &culling.views[p],
+            )
+        });
+        culling.depth = Some((texture.clone(), mip_level, groups));
+        culling.all_live = false;
+        Ok(())
+    }
+
+    /// Stops culling: from the next `prepare` every froxel is live again.
+    pub fn clear_scene_depth(&mut self) {
+        if let Some(c) = self.culling.as_mut() {
+            c.depth = None;
+            c.all_live = false;
+        }
     }
 
     /// Checks one frame's inputs and uploads them; starts the next frame.
@@ -453,6 +590,26 @@ impl VolumetricFog {
         if let Some(density) = self.density.as_mut().filter(|d| !d.user && !d.unit_written) {
             write_unit_density(queue, &density.texture);
             density.unit_written = true;
+        }
+        if let Some(c) = self
+            .culling
+            .as_mut()
+            .filter(|c| c.depth.is_none() && !c.all_live)
+        {
+            for texture in &c.live {
+                write_all_live(queue, texture, self.config.volume_size.z);
+            }
+            c.all_live = true;
+        }
+        if let Some(n) = self.noise.as_mut().filter(|n| !n.baked) {
+            let mut encoder = n
+                .device
+                .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                    label: Some("volfog noise_bake"),
+                });
+            n.pass.encode(&n.device, &mut encoder, &n.texture);
+            queue.submit([encoder.finish()]);
+            n.baked = true;
         }
         self.shadows_enabled = inputs.cascades.count > 0;
         self.frames = self.frames.wrapping_add(1).max(1);
@@ -498,12 +655,18 @@ impl VolumetricFog {
             FogPass::Inject => "volfog inject",
             FogPass::Temporal => "volfog temporal",
             FogPass::Scan => "volfog scan",
+            FogPass::Cull => "volfog froxel_cull",
         };
+        let cull = self
+            .culling
+            .as_ref()
+            .and_then(|c| Some(&c.pass).zip(c.depth.as_ref()));
         let shadow = self.shadow_map.as_ref().filter(|_| self.shadows_enabled);
         let runs = match pass {
             FogPass::EsmDownsample | FogPass::EsmBlur => shadow.is_some(),
             FogPass::Temporal => self.temporal.is_some(),
             FogPass::Inject | FogPass::Scan => true,
+            FogPass::Cull => cull.is_some(),
         };
         if !runs {
             return Ok(());
@@ -529,14 +692,21 @@ impl VolumetricFog {
                     );
                 }
             }
-            FogPass::Inject => self.inject.encode(&mut compute, &self.inject_group, size),
+            FogPass::Inject => {
+                self.inject
+                    .encode(&mut compute, &self.inject_groups[parity], size, c.amortize)
+            }
             FogPass::Temporal => {
                 let t = self.temporal.as_ref().expect("checked above");
                 t.pass.encode(&mut compute, &t.groups[parity], size);
             }
             FogPass::Scan => {
-                let group = &self.scan_groups[parity.min(self.scan_groups.len() - 1)];
-                self.scan.encode(&mut compute, group, [size[0], size[1]]);
+                self.scan
+                    .encode(&mut compute, &self.scan_groups[parity], [size[0], size[1]]);
+            }
+            FogPass::Cull => {
+                let (pass, (_, _, groups)) = cull.expect("checked above");
+                pass.encode(&mut compute, &groups[parity], [size[0], size[1]]);
             }
         }
         Ok(())
@@ -605,6 +775,14 @@ impl VolumetricFog {
         self.integrated.as_ref().unwrap_or(&self.scattering)
     }
 
+    /// The live-slice texture of the prepared frame (R32Uint, one value per froxel
+    /// column: how many leading slices inject, temporal and scan process), with
+    /// `FogConfig::depth_cull`; `None` without culling or before the first `prepare`.
+    pub fn live_slices_texture(&self) -> Option<&wgpu::Texture> {
+        let parity = (self.frame_index()? % 2) as usize;
+        self.culling.as_ref().map(|c| &c.live[parity])
+    }
+
     /// The scattering volume written by inject (before temporal and scan; with
     /// temporal reprojection the scan overwrites it with the integrated volume).
     pub fn scattering_texture(&self) -> &wgpu::Texture {
@@ -650,6 +828,12 @@ impl VolumetricFog {
         }
         if let Some(d) = self.density.as_ref().filter(|d| !d.user) {
             textures.push(&d.texture);
+        }
+        if let Some(c) = &self.culling {
+            textures.extend(&c.live);
+        }
+        if let Some(n) = &self.noise {
+            textures.push(&n.texture);
         }
         let mut buffers: Vec<&wgpu::Buffer> = self.buffers.all().to_vec();
         if let Some(t) = &self.temporal {
@@ -732,15 +916,28 @@ fn density_sampler(device: &wgpu::Device) -> wgpu::Sampler {
     })
 }
 
+/// The optional textures an inject variant reads.
+struct InjectTextures<'a> {
+    density: Option<&'a Density>,
+    live_slices: Option<&'a wgpu::TextureView>,
+    noise: Option<&'a Noise>,
+}
+
 fn inject_bind_group(
     device: &wgpu::Device,
     inject: &InjectPass,
     buffers: &Buffers,
     esm: &wgpu::TextureView,
     scattering: &wgpu::TextureView,
-    density: Option<&Density>,
+    textures: InjectTextures<'_>,
 ) -> wgpu::BindGroup {
+    let InjectTextures {
+        density,
+        live_slices,
+        noise,
+    } = textures;
     let density_view = density.map(|d| view(&d.texture));
+    let noise_view = noise.map(|n| view(&n.texture));
     inject
         .bind_group(
             device,
@@ -755,7 +952,9 @@ fn inject_bind_group(
                 local_volumes: &buffers.local_volumes,
                 scattering,
                 density_texture: density_view.as_ref().zip(density.map(|d| &d.sampler)),
+                live_slices,
+                noise_texture: noise_view.as_ref().zip(noise.map(|n| &n.sampler)),
             },
         )
-        .expect("the fog binds a density texture whenever its inject variant reads one")
+        .expect("the fog binds every texture its inject variant reads")
 }

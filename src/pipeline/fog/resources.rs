@@ -217,6 +217,54 @@ pub(crate) fn check_density_texture(
     check_texture_binding(WHAT, texture)
 }
 
+/// Formats of the scene depth the cull pass reads (as unfilterable float).
+pub const SCENE_DEPTH_FORMATS: [wgpu::TextureFormat; 5] = [
+    wgpu::TextureFormat::Depth32Float,
+    wgpu::TextureFormat::Depth32FloatStencil8,
+    wgpu::TextureFormat::Depth24Plus,
+    wgpu::TextureFormat::Depth16Unorm,
+    wgpu::TextureFormat::R32Float,
+];
+
+/// Checks a scene depth for the cull pass: a single-sampled 2D texture in one of
+/// [`SCENE_DEPTH_FORMATS`] with the mip level, usable as a texture binding.
+pub(crate) fn check_scene_depth(texture: &wgpu::Texture, mip_level: u32) -> Result<(), FogError> {
+    const WHAT: &str = "the scene depth";
+    if texture.dimension() != wgpu::TextureDimension::D2 {
+        return Err(mismatch(
+            WHAT,
+            "dimension",
+            texture.dimension(),
+            "D2".into(),
+        ));
+    }
+    if !SCENE_DEPTH_FORMATS.contains(&texture.format()) {
+        return Err(mismatch(
+            WHAT,
+            "format",
+            texture.format(),
+            format!("one of {SCENE_DEPTH_FORMATS:?}"),
+        ));
+    }
+    if texture.sample_count() != 1 {
+        return Err(mismatch(
+            WHAT,
+            "sample count",
+            texture.sample_count(),
+            "1 (resolve a multisampled depth buffer first)".into(),
+        ));
+    }
+    if mip_level >= texture.mip_level_count() {
+        return Err(mismatch(
+            WHAT,
+            "mip level count",
+            texture.mip_level_count(),
+            format!("more than the mip level {mip_level} read"),
+        ));
+    }
+    check_texture_binding(WHAT, texture)
+}
+
 /// Checks that a device can run a configuration.
 pub fn check_device(device: &wgpu::Device, config: &FogConfig) -> Result<(), FogError> {
     let limits = device.limits();
