@@ -72,6 +72,10 @@ const TARGET_SCAN: f64 = 1.25;
 const TARGET_APPLY: f64 = 1.5;
 /// Target: raymarch / froxel pipeline (speed-up).
 const TARGET_SPEEDUP: f64 = 20.0;
+/// Target: inject (culled, checkerboard, noise texture) / plain write of the volume.
+const TARGET_INJECT: f64 = 5.0;
+/// Target: raymarch / fast froxel pipeline (speed-up).
+const TARGET_FAST_SPEEDUP: f64 = 50.0;
 /// Target: froxel cost at 4K / 720p.
 const TARGET_SCREEN: f64 = 1.05;
 /// Target: GPU memory of `VolumetricFog` at the default configuration (MiB).
@@ -283,13 +287,15 @@ fn run(args: &BenchArgs) -> Result<(), BenchError> {
             }
         }
     }
+    let live = volfog_testkit::scene::live_fraction(&gpu, &work.variants[3].fog)?
+        .ok_or_else(|| BenchError::Readback("the live slices of a culling fog".to_string()))?;
     let report = summarize(
         &gpu,
         clock,
         &plan,
         &work.config,
         &samples,
-        memory_bytes,
+        (memory_bytes, live),
         start,
     );
     print!("{}", table(&report));

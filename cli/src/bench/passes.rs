@@ -62,23 +62,36 @@ pub(super) struct Screen {
 }
 
 impl Screen {
-    pub(super) fn new(
+    /// The scene's depth buffer at `size` (traced on the CPU).
+    pub(super) fn scene_depth(
         gpu: &Gpu,
         scene: &Scene,
-        config: &FogConfig,
-        shadow_map: &wgpu::Texture,
         size: (u32, u32),
-    ) -> Result<Self, BenchError> {
-        let mut fog = VolumetricFog::new(&gpu.device, config)?;
-        fog.set_shadow_map(&gpu.device, shadow_map)?;
-        let apply = fog.create_apply(&gpu.device, COLOR_FORMAT)?;
-        let depth = volfog_testkit::selfcheck::depth_texture(
+    ) -> Result<wgpu::Texture, BenchError> {
+        Ok(volfog_testkit::selfcheck::depth_texture(
             gpu,
             size.0,
             size.1,
             &scene.depth_buffer(size.0, size.1),
-        )?;
-        let depth = depth_view(&depth);
+        )?)
+    }
+
+    /// A fog of `config` behind a camera of `size` whose depth buffer is `depth`; the
+    /// fog culls by that depth when `config.depth_cull` is set.
+    pub(super) fn new(
+        gpu: &Gpu,
+        config: &FogConfig,
+        shadow_map: &wgpu::Texture,
+        depth: &wgpu::Texture,
+        size: (u32, u32),
+    ) -> Result<Self, BenchError> {
+        let mut fog = VolumetricFog::new(&gpu.device, config)?;
+        fog.set_shadow_map(&gpu.device, shadow_map)?;
+        if config.depth_cull {
+            fog.set_scene_depth(&gpu.device, depth, 0)?;
+        }
+        let apply = fog.create_apply(&gpu.device, COLOR_FORMAT)?;
+        let depth = depth_view(depth);
         let depth_group = apply.depth_bind_group(&gpu.device, &depth);
         let color = texture_2d(
             &gpu.device,
@@ -99,8 +112,8 @@ impl Screen {
     /// Runs one frame, each pass (and the apply) submitted alone; returns its pass
     /// timings by both clocks.
     pub(super) fn frame(&mut self, gpu: &Gpu) -> Result<(PassTimings, PassTimings), BenchError> {
-        let mut gpu_ms = [0.0; 6];
-        let mut wall_ms = [0.0; 6];
+        let mut gpu_ms = [0.0; 7];
+        let mut wall_ms = [0.0; 7];
         let passes = FogPass::ALL.map(Some).into_iter().chain([None]);
         for (i, pass) in passes.enumerate() {
             let mut encoder = gpu.device.create_command_encoder(&Default::default());
@@ -120,6 +133,7 @@ impl Screen {
                 .read_timings(&gpu.device, &gpu.queue)
                 .ok_or_else(|| BenchError::Readback("VolumetricFog::read_timings".to_string()))?;
             gpu_ms[i] = [
+                t.cull,
                 t.esm_downsample,
                 t.esm_blur,
                 t.inject,
@@ -128,87 +142,126 @@ impl Screen {
                 t.apply,
             ][i];
         }
-        let timings = |ms: [f64; 6]| PassTimings {
-            esm_downsample: ms[0],
-            esm_blur: ms[1],
-            inject: ms[2],
-            temporal: ms[3],
-            scan: ms[4],
-            apply: ms[5],
+        let timings = |ms: [f64; 7]| PassTimings {
+            cull: ms[0],
+            esm_downsample: ms[1],
+            esm_blur: ms[2],
+            inject: ms[3],
+            temporal: ms[4],
+            scan: ms[5],
+            apply: ms[6],
         };
         Ok((timings(gpu_ms), timings(wall_ms)))
     }
 }
 
-/// The plain volume copy (bandwidth floor of the scan).
-pub(super) struct CopyPass {
+/// A plain pass over a volume: the floor a fog pass is compared with.
+pub(super) struct VolumePass {
+    pub(super) label: &'static str,
     pub(super) pipeline: wgpu::ComputePipeline,
     pub(super) group: wgpu::BindGroup,
-    pub(super) size: [u32; 3],
+    pub(super) workgroups: [u32; 3],
 }
 
-impl CopyPass {
-    pub(super) fn new(gpu: &Gpu, source: &wgpu::Texture) -> Result<Self, BenchError> {
-        let module = raymarch::shader_module(
-            &gpu.device,
-            include_str!("copy.wgsl"),
-            "cli/src/bench/copy.wgsl",
-            &[],
-        )?;
+fn volume_texture(gpu: &Gpu, label: &str, size: wgpu::Extent3d) -> wgpu::Texture {
+    gpu.device.create_texture(&wgpu::TextureDescriptor {
+        label: Some(label),
+        size,
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D3,
+        format: volfog::pipeline::VOLUME_FORMAT,
+        usage: wgpu::TextureUsages::STORAGE_BINDING,
+        view_formats: &[],
+    })
+}
+
+impl VolumePass {
+    fn new(
+        gpu: &Gpu,
+        label: &'static str,
+        source: &'static str,
+        path: &'static str,
+        views: &[&wgpu::TextureView],
+        workgroups: [u32; 3],
+    ) -> Result<Self, BenchError> {
+        let module = raymarch::shader_module(&gpu.device, source, path, &[])?;
         let pipeline = gpu
             .device
             .create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-                label: Some("bench copy_volume"),
+                label: Some(label),
                 layout: None,
                 module: &module,
-                entry_point: Some("copy_volume"),
+                entry_point: Some(label),
                 compilation_options: Default::default(),
                 cache: None,
             });
-        let s = source.size();
-        let destination = gpu.device.create_texture(&wgpu::TextureDescriptor {
-            label: Some("bench copy destination"),
-            size: s,
-            mip_level_count: 1,
-            sample_count: 1,
-            dimension: wgpu::TextureDimension::D3,
-            format: source.format(),
-            usage: wgpu::TextureUsages::STORAGE_BINDING,
-            view_formats: &[],
-        });
+        let entries: Vec<wgpu::BindGroupEntry> = views
+            .iter()
+            .enumerate()
+            .map(|(i, v)| wgpu::BindGroupEntry {
+                binding: i as u32,
+                resource: wgpu::BindingResource::TextureView(v),
+            })
+            .collect();
         let group = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("bench copy_volume"),
+            label: Some(label),
             layout: &pipeline.get_bind_group_layout(0),
-            entries: &[
-                wgpu::BindGroupEntry {
-                    binding: 0,
-                    resource: wgpu::BindingResource::TextureView(
-                        &source.create_view(&Default::default()),
-                    ),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 1,
-                    resource: wgpu::BindingResource::TextureView(
-                        &destination.create_view(&Default::default()),
-                    ),
-                },
-            ],
+            entries: &entries,
         });
         Ok(Self {
+            label,
             pipeline,
             group,
-            size: [s.width, s.height, s.depth_or_array_layers],
+            workgroups,
         })
+    }
+
+    /// The plain copy of `source` into a volume of its size, with the scan's access
+    /// pattern (the scan's bandwidth floor).
+    pub(super) fn copy(gpu: &Gpu, source: &wgpu::Texture) -> Result<Self, BenchError> {
+        let s = source.size();
+        let destination = volume_texture(gpu, "bench copy destination", s);
+        Self::new(
+            gpu,
+            "copy_volume",
+            include_str!("copy.wgsl"),
+            "cli/src/bench/copy.wgsl",
+            &[
+                &source.create_view(&Default::default()),
+                &destination.create_view(&Default::default()),
+            ],
+            [s.width.div_ceil(8), s.height.div_ceil(8), 1],
+        )
+    }
+
+    /// A constant written to every texel of a volume of `size`, with inject's
+    /// dispatch (the inject's floor).
+    pub(super) fn write(gpu: &Gpu, size: wgpu::Extent3d) -> Result<Self, BenchError> {
+        let destination = volume_texture(gpu, "bench write destination", size);
+        Self::new(
+            gpu,
+            "write_volume",
+            include_str!("write.wgsl"),
+            "cli/src/bench/write.wgsl",
+            &[&destination.create_view(&Default::default())],
+            [
+                size.width.div_ceil(4),
+                size.height.div_ceil(4),
+                size.depth_or_array_layers.div_ceil(4),
+            ],
+        )
     }
 
     pub(super) fn encode(&self, encoder: &mut wgpu::CommandEncoder, timer: &Timer, slot: u32) {
         let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-            label: Some("bench copy_volume"),
+            label: Some(self.label),
             timestamp_writes: timer.compute(slot),
         });
         pass.set_pipeline(&self.pipeline);
         pass.set_bind_group(0, &self.group, &[]);
-        pass.dispatch_workgroups(self.size[0].div_ceil(8), self.size[1].div_ceil(8), 1);
+        let [x, y, z] = self.workgroups;
+        pass.dispatch_workgroups(x, y, z);
     }
 }
 

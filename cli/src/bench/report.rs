@@ -94,6 +94,21 @@ pub struct Ratios {
     pub raymarch_vs_froxel: Ratio,
     /// Froxel pipeline behind a 4K camera / behind a 720p camera.
     pub froxel_4k_vs_720p: Ratio,
+    /// Inject (baseline) / a plain write of the same volume.
+    pub inject_vs_write: Ratio,
+    /// Inject with culling, checkerboard and noise texture / a plain write.
+    pub inject_fast_vs_write: Ratio,
+    /// Raymarch / the fast froxel pipeline at 1080p.
+    pub raymarch_vs_froxel_fast: Ratio,
+}
+
+/// Depth culling in the bench scene.
+#[derive(Debug, Clone, Serialize)]
+pub struct Culling {
+    /// Fraction of the froxels the culling fog processed (1 = nothing culled).
+    pub live_fraction: f64,
+    /// Baseline inject / inject with depth culling alone.
+    pub inject_saving: f64,
 }
 
 /// GPU memory of `VolumetricFog` at the default configuration.
@@ -147,6 +162,8 @@ pub struct Report {
     pub ratios: Ratios,
     /// Memory of the default configuration.
     pub memory: Memory,
+    /// Depth culling in the bench scene.
+    pub culling: Culling,
     /// Wall-clock time of the whole run, seconds.
     pub wall_seconds: f64,
 }
@@ -158,7 +175,7 @@ pub(super) fn summarize(
     plan: &Plan,
     config: &FogConfig,
     samples: &std::collections::BTreeMap<&str, Vec<Sample>>,
-    memory_bytes: u64,
+    (memory_bytes, live_fraction): (u64, f64),
     start: Instant,
 ) -> Report {
     let series = |k: &str, c: Clock| -> Vec<f64> {
@@ -204,6 +221,25 @@ pub(super) fn summarize(
             median("froxel_4k") / median("froxel_720p"),
             TARGET_SCREEN,
         ),
+        inject_vs_write: Ratio::at_most(
+            "median inject (baseline) / median plain write of the volume",
+            median("inject") / median("write"),
+            TARGET_INJECT,
+        ),
+        inject_fast_vs_write: Ratio::at_most(
+            "median inject (culled, checkerboard, noise texture) / median plain write",
+            median("inject_fast") / median("write"),
+            TARGET_INJECT,
+        ),
+        raymarch_vs_froxel_fast: Ratio::at_least(
+            "median raymarch / median fast (cull + inject + temporal + scan + apply), 1080p",
+            median("raymarch_1080p") / median("froxel_fast_1080p"),
+            TARGET_FAST_SPEEDUP,
+        ),
+    };
+    let culling = Culling {
+        live_fraction,
+        inject_saving: median("inject") / median("inject_cull"),
     };
     let mib = memory_bytes as f64 / (1024.0 * 1024.0);
     Report {
@@ -225,6 +261,7 @@ pub(super) fn summarize(
         },
         passes,
         ratios,
+        culling,
         memory: Memory {
             bytes: memory_bytes,
             mib,
@@ -265,6 +302,11 @@ pub fn table(report: &Report) -> String {
     let _ = writeln!(out, "  ** inject + temporal + scan, apply excluded");
     let _ = writeln!(
         out,
+        "  + 1080p with the scene depth: culling, checkerboard amortisation, noise texture \
+         (the rows without + are the baseline: none of them)"
+    );
+    let _ = writeln!(
+        out,
         "\n{:<36} {:>10} {:>10}  status",
         "ratio (of medians)", "value", "target"
     );
@@ -277,6 +319,12 @@ pub fn table(report: &Report) -> String {
             &r.raymarch_vs_froxel,
         ),
         ("froxel cost 4K / 720p camera", &r.froxel_4k_vs_720p),
+        ("inject (baseline) / write", &r.inject_vs_write),
+        ("inject (fast) / write", &r.inject_fast_vs_write),
+        (
+            "raymarch / froxel fast (speed-up)",
+            &r.raymarch_vs_froxel_fast,
+        ),
     ] {
         let _ = writeln!(
             out,
@@ -287,6 +335,13 @@ pub fn table(report: &Report) -> String {
             status(ratio.met)
         );
     }
+    let _ = writeln!(
+        out,
+        "{:<36} {:>9.1}%  (inject {:.2}x cheaper with culling alone)",
+        "froxels live after depth culling",
+        100.0 * report.culling.live_fraction,
+        report.culling.inject_saving
+    );
     let m = &report.memory;
     let _ = writeln!(
         out,

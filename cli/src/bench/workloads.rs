@@ -9,10 +9,19 @@ pub(super) const SERIES: &[(&str, &str)] = &[
     ("inject", "inject 160x90x128"),
     ("temporal", "temporal 160x90x128"),
     ("scan", "scan 160x90x128"),
+    ("cull", "froxel_cull, 1080p depth +"),
+    ("inject_cull", "inject, depth culling +"),
+    ("inject_checkerboard", "inject, checkerboard +"),
+    ("inject_noise_texture", "inject, noise texture +"),
+    ("inject_fast", "inject, all three +"),
+    ("temporal_fast", "temporal, culled + checker +"),
+    ("scan_fast", "scan, culled +"),
+    ("write", "write 160x90x128 (floor)"),
     ("copy", "copy 160x90x128 (floor)"),
     ("apply_1080p", "apply 1920x1080"),
     ("blit_1080p", "blit 1920x1080 (floor)"),
     ("froxel_1080p", "froxel pipeline 1080p *"),
+    ("froxel_fast_1080p", "froxel fast 1080p *+"),
     ("raymarch_1080p", "raymarch 1080p, 64 steps"),
     ("froxel_720p", "froxel 720p camera **"),
     ("froxel_4k", "froxel 4K camera **"),
@@ -21,7 +30,25 @@ pub(super) const SERIES: &[(&str, &str)] = &[
 ];
 
 pub(super) fn froxel_cost(t: &PassTimings) -> f64 {
-    t.inject + t.temporal + t.scan
+    t.cull + t.inject + t.temporal + t.scan
+}
+
+/// The configurations compared at 1080p with the baseline (no culling, every froxel
+/// injected each frame, procedural noise): depth culling, the checkerboard, the noise
+/// texture, and all three.
+pub(super) fn variant_configs(base: &FogConfig) -> [FogConfig; 4] {
+    let with = |depth_cull, amortize, noise_texture| FogConfig {
+        depth_cull,
+        amortize,
+        noise_texture,
+        ..base.clone()
+    };
+    [
+        with(true, false, false),
+        with(false, true, false),
+        with(false, false, true),
+        with(true, true, true),
+    ]
 }
 
 /// Frame counts of a run.
@@ -72,9 +99,12 @@ pub(super) struct Workloads {
     pub(super) scene: Scene,
     pub(super) cascades: volfog::uniforms::ShadowCascades,
     pub(super) main: Screen,
+    /// Culling, checkerboard, noise texture, all three (see [`variant_configs`]).
+    pub(super) variants: [Screen; 4],
     pub(super) small: Screen,
     pub(super) large: Screen,
-    pub(super) copy: CopyPass,
+    pub(super) write: VolumePass,
+    pub(super) copy: VolumePass,
     pub(super) blit: BlitPass,
     pub(super) reference: Raymarch,
     pub(super) reference_group: wgpu::BindGroup,
@@ -86,6 +116,9 @@ impl Workloads {
     pub(super) fn new(gpu: &Gpu) -> Result<Self, BenchError> {
         let config = FogConfig {
             timestamps: true,
+            depth_cull: false,
+            amortize: false,
+            noise_texture: false,
             ..FogConfig::default()
         };
         let scene = Scene::new();
@@ -99,10 +132,21 @@ impl Workloads {
             shadow_size,
             &layer_refs,
         )?;
-        let main = Screen::new(gpu, &scene, &config, &shadow_map, SCREEN)?;
-        let small = Screen::new(gpu, &scene, &config, &shadow_map, SMALL_SCREEN)?;
-        let large = Screen::new(gpu, &scene, &config, &shadow_map, LARGE_SCREEN)?;
-        let copy = CopyPass::new(gpu, main.fog.scattering_texture())?;
+        let depth = Screen::scene_depth(gpu, &scene, SCREEN)?;
+        let main = Screen::new(gpu, &config, &shadow_map, &depth, SCREEN)?;
+        let [a, b, c, d] = variant_configs(&config);
+        let variants = [
+            Screen::new(gpu, &a, &shadow_map, &depth, SCREEN)?,
+            Screen::new(gpu, &b, &shadow_map, &depth, SCREEN)?,
+            Screen::new(gpu, &c, &shadow_map, &depth, SCREEN)?,
+            Screen::new(gpu, &d, &shadow_map, &depth, SCREEN)?,
+        ];
+        let small_depth = Screen::scene_depth(gpu, &scene, SMALL_SCREEN)?;
+        let small = Screen::new(gpu, &config, &shadow_map, &small_depth, SMALL_SCREEN)?;
+        let large_depth = Screen::scene_depth(gpu, &scene, LARGE_SCREEN)?;
+        let large = Screen::new(gpu, &config, &shadow_map, &large_depth, LARGE_SCREEN)?;
+        let write = VolumePass::write(gpu, main.fog.scattering_texture().size())?;
+        let copy = VolumePass::copy(gpu, main.fog.scattering_texture())?;
         let blit = BlitPass::new(gpu, SCREEN, COLOR_FORMAT)?;
         let reference = Raymarch::new(
             &gpu.device,
@@ -135,14 +179,16 @@ impl Workloads {
             scene,
             cascades,
             main,
+            variants,
             small,
             large,
+            write,
             copy,
             blit,
             reference,
             reference_group,
             reference_target,
-            timer: Timer::new(gpu, 3),
+            timer: Timer::new(gpu, 4),
         })
     }
 
@@ -154,12 +200,26 @@ impl Workloads {
         with_raymarch: bool,
     ) -> Result<Vec<(&'static str, Sample)>, BenchError> {
         let inputs = self.scene.inputs(f as f32 / 60.0, self.cascades);
-        for s in [&mut self.main, &mut self.small, &mut self.large] {
+        let [v0, v1, v2, v3] = &mut self.variants;
+        for s in [
+            &mut self.main,
+            &mut self.small,
+            &mut self.large,
+            v0,
+            v1,
+            v2,
+            v3,
+        ] {
             s.fog.prepare(&gpu.queue, &inputs)?;
         }
         let (tg, tc) = self.main.frame(gpu)?;
+        let mut variants = Vec::new();
+        for s in &mut self.variants {
+            variants.push(s.frame(gpu)?);
+        }
         let timer = &self.timer;
         let copy_t = timer.run(gpu, 0, |e| self.copy.encode(e, timer, 0))?;
+        let write_t = timer.run(gpu, 3, |e| self.write.encode(e, timer, 3))?;
         let blit_t = timer.run(gpu, 1, |e| self.blit.encode(e, timer, 1))?;
         let index = self.main.fog.frame_index().expect("prepared above");
         let uniforms = inputs.uniforms(&self.config, index)?;
@@ -194,7 +254,20 @@ impl Workloads {
             cpu: pick(&t.1),
         };
         let main = (tg, tc);
+        let fast = variants[3];
         let mut samples = vec![
+            ("cull", both(&|p| p.cull, &fast)),
+            ("inject_cull", both(&|p| p.inject, &variants[0])),
+            ("inject_checkerboard", both(&|p| p.inject, &variants[1])),
+            ("inject_noise_texture", both(&|p| p.inject, &variants[2])),
+            ("inject_fast", both(&|p| p.inject, &fast)),
+            ("temporal_fast", both(&|p| p.temporal, &fast)),
+            ("scan_fast", both(&|p| p.scan, &fast)),
+            ("write", write_t),
+            (
+                "froxel_fast_1080p",
+                both(&|p| froxel_cost(p) + p.apply, &fast),
+            ),
             ("esm_downsample", both(&|p| p.esm_downsample, &main)),
             ("esm_blur", both(&|p| p.esm_blur, &main)),
             ("inject", both(&|p| p.inject, &main)),

@@ -1,9 +1,9 @@
 //! `volfog demo`: renders the demo scene headless with the real `VolumetricFog`
 //! pipeline and writes PNGs.
 //!
-//! Per frame: shadow cascades (depth-only, one pass per layer) -> fog prepare/encode
-//! (ESM downsample, blur, inject, temporal, scan) -> lit opaque pass and sky ->
-//! fullscreen fog apply -> semi-transparent sphere fogged by the forward snippet ->
+//! Per frame: shadow cascades (depth-only, one pass per layer) -> lit opaque pass and
+//! sky -> fog prepare/encode (froxel culling by this frame's depth buffer, ESM
+//! downsample, blur, inject, temporal, scan) -> fullscreen fog apply -> semi-transparent sphere fogged by the forward snippet ->
 //! tonemap. The camera moves along a short path so the temporal reprojection works on
 //! a moving view; the last frame is written as `DIR/demo.png`.
 //!
@@ -102,14 +102,15 @@ const FAR: f32 = 500.0;
 /// Seconds between frames (fog animation).
 const FRAME_TIME: f32 = 1.0 / 24.0;
 /// Names of every timed pass, in frame order.
-const PASS_NAMES: [&str; 10] = [
+const PASS_NAMES: [&str; 11] = [
     "shadow maps",
+    "opaque + sky",
+    "froxel cull",
     "esm downsample",
     "esm blur",
     "inject",
     "temporal",
     "scan",
-    "opaque + sky",
     "fog apply",
     "transparent",
     "tonemap",
@@ -144,16 +145,17 @@ fn fog_config(args: &DemoArgs, timestamps: bool) -> FogConfig {
 fn frame_times(
     fog: Option<PassTimings>,
     demo: Option<[f64; render::DEMO_PASSES.len()]>,
-) -> Option<[f64; 10]> {
+) -> Option<[f64; 11]> {
     let (f, d) = (fog?, demo?);
     Some([
         d[0],
+        d[1],
+        f.cull,
         f.esm_downsample,
         f.esm_blur,
         f.inject,
         f.temporal,
         f.scan,
-        d[1],
         f.apply,
         d[2],
         d[3],
@@ -283,6 +285,9 @@ impl<'a> Demo<'a> {
             .map_err(|e| DemoError::Pipeline(e.to_string()))?
             .map_err(DemoError::Pipeline)?;
         fog.set_shadow_map(&gpu.device, renderer.shadow_map())?;
+        // The opaque pass lays the depth out before the fog runs, so the fog culls the
+        // froxels behind this frame's opaque surfaces.
+        fog.set_scene_depth(&gpu.device, &renderer.depth, 0)?;
         let apply = fog.create_apply(&gpu.device, HDR_FORMAT)?;
         let depth_group = apply.depth_bind_group(&gpu.device, renderer.depth_view());
         println!(
@@ -363,7 +368,7 @@ impl<'a> Demo<'a> {
     }
 
     /// Renders one frame and returns its per-pass GPU times, if measured.
-    fn render(&mut self, setup: &FrameSetup, probe: bool) -> Result<Option<[f64; 10]>, DemoError> {
+    fn render(&mut self, setup: &FrameSetup, probe: bool) -> Result<Option<[f64; 11]>, DemoError> {
         let (gpu, scene) = (&self.gpu, &self.scene);
         self.renderer.upload(
             &gpu.queue,
@@ -386,8 +391,8 @@ impl<'a> Demo<'a> {
         let probe = self.probe_textures.as_ref().filter(|_| probe);
         let mut encoder = gpu.device.create_command_encoder(&Default::default());
         self.renderer.encode_shadows(&mut encoder);
-        self.fog.encode(&mut encoder)?;
         self.renderer.encode_opaque(&mut encoder, true);
+        self.fog.encode(&mut encoder)?;
         if let Some([surface, _]) = probe {
             self.renderer.copy_hdr(&mut encoder, surface);
         }
@@ -424,7 +429,7 @@ pub fn run(args: &DemoArgs) -> Result<(), DemoError> {
         std::fs::create_dir_all(&frames_dir).map_err(|e| write_error(&frames_dir, e))?;
     }
     let mut demo = Demo::new(args)?;
-    let mut times: Vec<[f64; 10]> = Vec::new();
+    let mut times: Vec<[f64; 11]> = Vec::new();
     let mut last = None;
     for frame in 0..args.frames {
         let frame_started = Instant::now();
@@ -468,6 +473,12 @@ pub fn run(args: &DemoArgs) -> Result<(), DemoError> {
              frame above is the reliable figure)"
         );
     }
+    if let Some(live) = volfog_testkit::scene::live_fraction(&demo.gpu, &demo.fog)? {
+        println!(
+            "depth culling: {:.1} % of the froxels live in the last frame",
+            100.0 * live
+        );
+    }
     if demo.probe_textures.is_some() {
         write_probe(&mut demo, &setup, &times)?;
     }
@@ -479,7 +490,7 @@ pub fn run(args: &DemoArgs) -> Result<(), DemoError> {
     Ok(())
 }
 
-fn print_timings(times: &[[f64; 10]], frames: u32) {
+fn print_timings(times: &[[f64; 11]], frames: u32) {
     if times.is_empty() {
         println!("per-pass GPU times: unavailable (the adapter lacks TIMESTAMP_QUERY)");
         return;
@@ -510,7 +521,7 @@ fn print_timings(times: &[[f64; 10]], frames: u32) {
 fn write_probe(
     demo: &mut Demo<'_>,
     setup: &FrameSetup,
-    times: &[[f64; 10]],
+    times: &[[f64; 11]],
 ) -> Result<(), DemoError> {
     let Demo {
         args,
@@ -632,6 +643,7 @@ fn write_probe(
             "esm_max": esm_max,
             "esm_resolution": fog.config().esm_resolution,
             "esm_log_space": fog.config().esm_log_space,
+            "live_fraction": volfog_testkit::scene::live_fraction(gpu, fog)?,
         },
         "cascades": {
             "light_from_world": cascades.light_from_world.iter().map(|m| mat(*m)).collect::<Vec<_>>(),

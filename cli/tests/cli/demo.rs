@@ -195,12 +195,13 @@ fn every_pass_runs_and_reports_gpu_time() {
         names,
         [
             "shadow maps",
+            "opaque + sky",
+            "froxel cull",
             "esm downsample",
             "esm blur",
             "inject",
             "temporal",
             "scan",
-            "opaque + sky",
             "fog apply",
             "transparent",
             "tonemap"
@@ -227,6 +228,14 @@ fn every_pass_runs_and_reports_gpu_time() {
     // The ESM holds occluders (values below the unoccluded exp(c * 1), log space: c)
     // and the integrated volume attenuates towards its far end.
     let fog = &p["fog"];
+    // The demo culls by its depth buffer: the ground and pillars hide part of the
+    // volume, the sky none of it.
+    let live = num(&fog["live_fraction"]);
+    eprintln!(
+        "demo: {:.1} % of the froxels live after depth culling",
+        100.0 * live
+    );
+    assert!(live > 0.2 && live < 0.95, "live fraction {live}");
     let (esm_min, esm_max) = (num(&fog["esm_min"]), num(&fog["esm_max"]));
     let t_far = num(&fog["mean_transmittance_far"]);
     eprintln!("ESM range {esm_min:.2}..{esm_max:.2}, mean far transmittance {t_far:.3}");
