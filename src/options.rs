@@ -83,6 +83,9 @@ pub struct InjectOptions {
     pub noise_texture: bool,
     /// Froxels behind their column's live slices skipped (`VOLFOG_FROXEL_CULL`).
     pub depth_cull: bool,
+    /// One froxel of each pair of slices injected per frame
+    /// (`VOLFOG_INJECT_CHECKERBOARD`; `FogFrame::checkerboard` must then be 1).
+    pub checkerboard: bool,
     /// fbm octaves (`VOLFOG_INJECT_NOISE_OCTAVES`), see
     /// [`limits::NOISE_OCTAVES`](crate::limits::NOISE_OCTAVES).
     pub noise_octaves: u32,
@@ -97,6 +100,7 @@ impl Default for InjectOptions {
             esm_log_space: false,
             noise_texture: false,
             depth_cull: false,
+            checkerboard: false,
             noise_octaves: manifest::INJECT_NOISE_OCTAVES.default,
         }
     }
@@ -120,6 +124,9 @@ impl InjectOptions {
         }
         if self.noise_texture {
             d.push("VOLFOG_INJECT_NOISE_TEXTURE".to_string());
+        }
+        if self.checkerboard {
+            d.push("VOLFOG_INJECT_CHECKERBOARD".to_string());
         }
         d.extend(cull_defines(self.depth_cull));
         if self.noise_octaves != manifest::INJECT_NOISE_OCTAVES.default {

@@ -38,6 +38,14 @@ fn declarator(ty: &str, name: &str, known: &[&str]) -> Result<String, CodegenErr
     if let Some(c) = scalar(ty) {
         return Ok(format!("{c} {name}"));
     }
+    // Atomics have the layout of their scalar (the host reads and writes them plainly).
+    if let Some(c) = ty
+        .strip_prefix("atomic<")
+        .and_then(|r| r.strip_suffix('>'))
+        .and_then(scalar)
+    {
+        return Ok(format!("{c} {name} /* atomic */"));
+    }
     if let Some(inner) = ty.strip_prefix("vec").and_then(|r| r.split_once('<')) {
         let n = inner.0;
         let s = inner.1.trim_end_matches('>');

@@ -23,6 +23,9 @@ pub enum Axis {
     Flag(&'static str),
     /// Mutually exclusive defines: the variant has none or exactly one of them.
     OneOf(&'static [&'static str]),
+    /// Defines prebuilt together: the variant has none or all of them (each may still
+    /// be set alone in a custom composition).
+    Together(&'static [&'static str]),
 }
 
 impl Axis {
@@ -30,7 +33,16 @@ impl Axis {
     pub fn defines(&self) -> &[&'static str] {
         match self {
             Axis::Flag(name) => core::slice::from_ref(name),
-            Axis::OneOf(names) => names,
+            Axis::OneOf(names) | Axis::Together(names) => names,
+        }
+    }
+
+    /// The define sets this axis adds to a variant besides none: one per define, or,
+    /// for [`Axis::Together`], all of them at once.
+    pub fn choices(&self) -> Vec<Vec<&'static str>> {
+        match self {
+            Axis::Together(names) => vec![names.to_vec()],
+            _ => self.defines().iter().map(|d| vec![*d]).collect(),
         }
     }
 }
@@ -300,19 +312,24 @@ pub const PASSES: &[PassSource] = &[
             Axis::Flag("VOLFOG_INJECT_JITTER"),
             Axis::Flag("VOLFOG_INJECT_TWO_COLOR_PHASE"),
             Axis::Flag("VOLFOG_INJECT_DENSITY_TEXTURE"),
-            Axis::Flag("VOLFOG_INJECT_NOISE_TEXTURE"),
-            Axis::Flag("VOLFOG_FROXEL_CULL"),
+            Axis::Together(&[
+                "VOLFOG_FROXEL_CULL",
+                "VOLFOG_INJECT_CHECKERBOARD",
+                "VOLFOG_INJECT_NOISE_TEXTURE",
+            ]),
         ],
         values: &[INJECT_NOISE_OCTAVES],
-        usage: "Dispatch ceil(size.x / 4) x ceil(size.y / 4) x ceil(size.z / 4) workgroups \
-                after the ESM passes. The light buffer holds light_count FogLight elements \
+        usage: "Dispatch ceil(size.x / 4) x ceil(size.y / 4) x ceil(size.z / 8) workgroups \
+                (one per block of 4 x 4 x 8 froxels) after the ESM passes. The light buffer holds light_count FogLight elements \
                 (64-byte stride), the local volume buffer local_volume_count LocalVolume \
                 elements (80-byte stride); bind at least one element each. The density \
                 sampler (binding 10) and the noise sampler (binding 13) are linear with \
-                repeat addressing; binding 12 is the texture noise_bake wrote. Binding 11 \
-                is this frame's live-slice texture (froxel_cull), bound as uint. With \
-                FogFrame.checkerboard = 1 dispatch ceil(ceil(size.x / 2) / 4) workgroups \
-                along x instead."
+                repeat addressing; binding 12 is the texture noise_bake wrote. Under \
+                VOLFOG_FROXEL_CULL binding 11 is this frame's live-slice texture \
+                (froxel_cull), bound as uint, binding 14 the live blocks, and the dispatch \
+                is indirect from froxel_cull's arguments. VOLFOG_INJECT_CHECKERBOARD \
+                needs FogFrame.checkerboard = 1 (temporal reads it), and the other \
+                variants 0."
     ),
     pass!(
         "noise_bake",
@@ -327,13 +344,14 @@ pub const PASSES: &[PassSource] = &[
         "temporal",
         axes: &[Axis::Flag("VOLFOG_FROXEL_CULL")],
         values: &[],
-        usage: "Dispatch ceil(size.x / 4) x ceil(size.y / 4) x ceil(size.z / 4) workgroups \
-                after inject. Ping-pong two volumes and their HistoryState buffers (80 bytes, \
+        usage: "Dispatch ceil(size.x / 4) x ceil(size.y / 4) x ceil(size.z / 8) workgroups \
+                (one per block of 4 x 4 x 8 froxels) after inject. Ping-pong two volumes and their HistoryState buffers (80 bytes, \
                 zero-initialised) by frame parity: frame n reads volume and state (n + 1) % 2 \
                 at bindings 3 and 6 and writes volume and state n % 2 at bindings 5 and 7. \
                 The sampler (binding 4) is linear with clamp-to-edge addressing. Under \
                 VOLFOG_FROXEL_CULL bindings 8 and 9 are the live-slice textures of this \
-                frame and of the history (uint)."
+                frame and of the history (uint), binding 10 the live blocks, and the \
+                dispatch is indirect from froxel_cull's arguments."
     ),
     pass!(
         "hull_thickness",
@@ -405,9 +423,9 @@ pub fn expand_axes(axes: &[Axis]) -> Vec<Vec<&'static str>> {
         let mut next = Vec::new();
         for combo in &combos {
             next.push(combo.clone());
-            for define in axis.defines() {
+            for choice in axis.choices() {
                 let mut with = combo.clone();
-                with.push(define);
+                with.extend(choice);
                 next.push(with);
             }
         }

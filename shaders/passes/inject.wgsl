@@ -1,13 +1,17 @@
 // Pass inject — density and in-scattered light of every froxel in one compute pass
 // (Wronski 2014, "Density estimation and volume lighting", as in Assassin's Creed 4).
 //
-// Dispatch: ceil(columns / 4) x ceil(size.y / 4) x ceil(size.z / 4) workgroups of
-// 4 x 4 x 4, with columns = size.x, or ceil(size.x / 2) when FogFrame.checkerboard is 1
-// (each invocation then takes one froxel of a pair along x: the one
-// volfog::froxel::froxel_injected picks this frame).
+// Dispatch: ceil(size.x / 4) x ceil(size.y / 4) x ceil(size.z / 8) workgroups, each
+// covering a block of 4 x 4 x 8 froxels (volfog::froxel, "Froxel blocks"): 4 x 4 x 8
+// invocations, one per froxel, or under VOLFOG_INJECT_CHECKERBOARD 4 x 4 x 4, one per
+// pair of slices (2 k, 2 k + 1), injecting the froxel of the pair that
+// volfog::froxel::froxel_injected picks this frame and writing its value to both (temporal
+// reads it for the other one only where that has no history). Under VOLFOG_FROXEL_CULL
+// dispatch indirectly with the arguments froxel_cull_compact wrote, one workgroup per
+// listed block.
 // Output: rgb = sigma_s * L_in (radiance scattered towards the eye per metre),
 //         a = sigma_t (1/m), written to a write-only rgba16float 3D texture; froxels
-//         that are skipped (checkerboard, depth culling) are not written.
+//         behind their column's live slices (depth culling) are not written.
 // Bindings (group 0):
 //   0  uniform Froxels            1  uniform FogFrame         2  uniform FogMedium
 //   3  uniform FogLighting        4  uniform ShadowCascades
@@ -20,6 +24,8 @@
 //  11  texture_2d<u32>: live slices per column from froxel_cull (VOLFOG_FROXEL_CULL only)
 //  12  texture_3d<f32>: the baked noise texture (VOLFOG_INJECT_NOISE_TEXTURE only)
 //  13  sampler, linear, repeat (VOLFOG_INJECT_NOISE_TEXTURE only)
+//  14  storage, read: array<u32>, the live blocks from froxel_cull_compact
+//      (VOLFOG_FROXEL_CULL only)
 // Lights are culled per workgroup: the lights whose range touches the block's bounding
 // sphere are gathered in workgroup memory (at most 64), so distant lights cost nothing.
 // A froxel without extinction gets no lighting (its in-scattering is 0 whatever the light).
@@ -30,11 +36,13 @@
 //   VOLFOG_INJECT_NOISE_TEXTURE     read the noise from the baked tileable texture
 //                                   (noise_bake) instead of evaluating Perlin noise
 //   VOLFOG_INJECT_NOISE_OCTAVES=N   fbm octaves, 1..=8 (default 1, as in the seed)
-//   VOLFOG_FROXEL_CULL              skip froxels behind the column's live slices
+//   VOLFOG_FROXEL_CULL              skip froxels behind the column's live slices and
+//                                   blocks without live froxels
+//   VOLFOG_INJECT_CHECKERBOARD      amortise over two frames (FogFrame.checkerboard = 1)
 //   VOLFOG_ESM_LOG_SPACE            the ESM holds log-space values (see volfog::esm)
 
 #import volfog::types::{Froxels, FogFrame, FogMedium, FogLighting, ShadowCascades, FogLight, LocalVolume}
-#import volfog::froxel::{froxel_view_position, froxel_injected}
+#import volfog::froxel::{froxel_view_position, froxel_injected, froxel_block_unpack, FROXEL_BLOCK_X, FROXEL_BLOCK_Y, FROXEL_BLOCK_Z}
 #ifdef VOLFOG_INJECT_NOISE_TEXTURE
 #import volfog::noise::noise_animated_texture
 #else
@@ -59,6 +67,7 @@
 #endif
 #ifdef VOLFOG_FROXEL_CULL
 @group(0) @binding(11) var live_slices: texture_2d<u32>;
+@group(0) @binding(14) var<storage, read> live_blocks: array<u32>;
 #endif
 #ifdef VOLFOG_INJECT_NOISE_TEXTURE
 @group(0) @binding(12) var noise_texture: texture_3d<f32>;
@@ -66,6 +75,11 @@
 #endif
 
 const NOISE_OCTAVES: u32 = #{VOLFOG_INJECT_NOISE_OCTAVES}u;
+#ifdef VOLFOG_INJECT_CHECKERBOARD
+const WORKGROUP_Z: u32 = 4u;
+#else
+const WORKGROUP_Z: u32 = 8u;
+#endif
 const TILE_LIGHTS: u32 = 64u;
 const HALF_MAX: f32 = 65504.0;
 
@@ -79,61 +93,18 @@ fn world_of(id: vec3<u32>, offset: vec3<f32>) -> vec3<f32> {
     return (frame.world_from_view * vec4<f32>(view, 1.0)).xyz;
 }
 
-@compute @workgroup_size(4, 4, 4)
-fn inject(
-    @builtin(global_invocation_id) invocation: vec3<u32>,
-    @builtin(local_invocation_index) local_index: u32,
-    @builtin(workgroup_id) group: vec3<u32>,
-) {
-    // The block of froxels this workgroup covers: 4 x 4 x 4, or 8 x 4 x 4 when every
-    // invocation picks one froxel of a pair along x.
-    let pairs = u32(frame.checkerboard != 0u);
-    let span = vec3<u32>(4u << pairs, 4u, 4u);
-    if local_index == 0u {
-        // Bounding sphere of the block (corners of its first and last froxel,
-        // whole-froxel extent so every jittered sample is inside).
-        let first = group * span;
-        let last = min(first + span - 1u, froxels.size - 1u);
-        let c0 = world_of(first, vec3<f32>(-0.5));
-        let c1 = world_of(last, vec3<f32>(0.5));
-        let c2 = world_of(vec3<u32>(first.xy, last.z), vec3<f32>(-0.5, -0.5, 0.5));
-        let c3 = world_of(vec3<u32>(last.x, first.y, last.z), vec3<f32>(0.5, -0.5, 0.5));
-        let c4 = world_of(vec3<u32>(first.x, last.y, last.z), vec3<f32>(-0.5, 0.5, 0.5));
-        let center = 0.5 * (c0 + c1);
-        let radius = max(max(distance(center, c0), distance(center, c1)),
-                         max(distance(center, c2), max(distance(center, c3), distance(center, c4))));
-        tile_sphere = vec4<f32>(center, radius);
-        atomicStore(&tile_count, 0u);
-    }
-    workgroupBarrier();
-    let sphere = tile_sphere;
-    let light_count = min(fog_lighting.light_count, arrayLength(&lights));
-    for (var i = local_index; i < light_count; i += 64u) {
-        if light_touches_sphere(lights[i], sphere.xyz, sphere.w) {
-            let slot = atomicAdd(&tile_count, 1u);
-            if slot < TILE_LIGHTS {
-                tile_lights[slot] = i;
-            }
-        }
-    }
-    workgroupBarrier();
-    let tile_light_count = min(atomicLoad(&tile_count), TILE_LIGHTS);
-
-    var id = invocation;
-    if pairs != 0u {
-        id.x = 2u * invocation.x;
-        if !froxel_injected(id, frame.index, 1u) {
-            id.x += 1u;
-        }
-    }
-    if any(id >= froxels.size) {
-        return;
-    }
+// Live slices of column xy (every slice without culling).
+fn live(xy: vec2<u32>) -> u32 {
 #ifdef VOLFOG_FROXEL_CULL
-    if id.z >= textureLoad(live_slices, id.xy, 0).r {
-        return;
-    }
+    return textureLoad(live_slices, xy, 0).r;
+#else
+    return froxels.size.z;
 #endif
+}
+
+// Density and in-scattered light of froxel id (rgb = sigma_s L_in, a = sigma_t),
+// with the lights gathered for the workgroup.
+fn froxel_scattering(id: vec3<u32>, tile_light_count: u32) -> vec4<f32> {
 #ifdef VOLFOG_INJECT_JITTER
     let offset = frame.jitter;
 #else
@@ -163,8 +134,7 @@ fn inject(
     }
     sigma_t = max(sigma_t, 0.0);
     if sigma_t <= 0.0 {
-        textureStore(scattering, id, vec4<f32>(0.0));
-        return;
+        return vec4<f32>(0.0);
     }
 
     // Lighting. The cascade's matrix is read from the uniform with the varying index
@@ -187,6 +157,72 @@ fn inject(
 
     // Clamped to the largest finite rgba16float value so no texel becomes Inf.
     let sigma_s = fog_medium.albedo * sigma_t;
-    let texel = min(vec4<f32>(sigma_s * light, sigma_t), vec4<f32>(HALF_MAX));
-    textureStore(scattering, id, texel);
+    return min(vec4<f32>(sigma_s * light, sigma_t), vec4<f32>(HALF_MAX));
+}
+
+@compute @workgroup_size(4, 4, WORKGROUP_Z)
+fn inject(
+    @builtin(local_invocation_id) local: vec3<u32>,
+    @builtin(local_invocation_index) local_index: u32,
+    @builtin(workgroup_id) group: vec3<u32>,
+) {
+#ifdef VOLFOG_FROXEL_CULL
+    let block = froxel_block_unpack(live_blocks[group.x]);
+#else
+    let block = group;
+#endif
+    let span = vec3<u32>(FROXEL_BLOCK_X, FROXEL_BLOCK_Y, FROXEL_BLOCK_Z);
+    let first = block * span;
+    if local_index == 0u {
+        // Bounding sphere of the block (corners of its first and last froxel,
+        // whole-froxel extent so every jittered sample is inside).
+        let last = min(first + span - 1u, froxels.size - 1u);
+        let c0 = world_of(first, vec3<f32>(-0.5));
+        let c1 = world_of(last, vec3<f32>(0.5));
+        let c2 = world_of(vec3<u32>(first.xy, last.z), vec3<f32>(-0.5, -0.5, 0.5));
+        let c3 = world_of(vec3<u32>(last.x, first.y, last.z), vec3<f32>(0.5, -0.5, 0.5));
+        let c4 = world_of(vec3<u32>(first.x, last.y, last.z), vec3<f32>(-0.5, 0.5, 0.5));
+        let center = 0.5 * (c0 + c1);
+        let radius = max(max(distance(center, c0), distance(center, c1)),
+                         max(distance(center, c2), max(distance(center, c3), distance(center, c4))));
+        tile_sphere = vec4<f32>(center, radius);
+        atomicStore(&tile_count, 0u);
+    }
+    workgroupBarrier();
+    let sphere = tile_sphere;
+    let light_count = min(fog_lighting.light_count, arrayLength(&lights));
+    for (var i = local_index; i < light_count; i += 4u * 4u * WORKGROUP_Z) {
+        if light_touches_sphere(lights[i], sphere.xyz, sphere.w) {
+            let slot = atomicAdd(&tile_count, 1u);
+            if slot < TILE_LIGHTS {
+                tile_lights[slot] = i;
+            }
+        }
+    }
+    workgroupBarrier();
+    let tile_light_count = min(atomicLoad(&tile_count), TILE_LIGHTS);
+
+#ifdef VOLFOG_INJECT_CHECKERBOARD
+    let pair = first + vec3<u32>(local.xy, 2u * local.z);
+    if any(pair >= froxels.size) || pair.z >= live(pair.xy) {
+        return;
+    }
+    let second = pair + vec3<u32>(0u, 0u, 1u);
+    let has_second = second.z < froxels.size.z;
+    var id = pair;
+    if has_second && !froxel_injected(pair, frame.index, 1u) {
+        id = second;
+    }
+    let value = froxel_scattering(id, tile_light_count);
+    textureStore(scattering, pair, value);
+    if has_second {
+        textureStore(scattering, second, value);
+    }
+#else
+    let id = first + local;
+    if any(id >= froxels.size) || id.z >= live(id.xy) {
+        return;
+    }
+    textureStore(scattering, id, froxel_scattering(id, tile_light_count));
+#endif
 }

@@ -135,9 +135,27 @@ fn froxel_cull_footprint(column: vec2<u32>, grid: vec2<u32>, texels: vec2<u32>) 
     return vec4<u32>(a, b);
 }
 
+// Froxel blocks. inject and temporal give each workgroup a block of
+// FROXEL_BLOCK_X x FROXEL_BLOCK_Y x FROXEL_BLOCK_Z froxels, each invocation a pair of
+// slices (2 k, 2 k + 1) of one column. With depth culling the blocks that hold live
+// froxels are listed (froxel_cull_compact) and the passes are dispatched indirectly
+// over the list, one workgroup per block; a list item packs the block coordinates as
+// x | y << 11 | z << 22 (volume axes are at most 2048 froxels).
+const FROXEL_BLOCK_X: u32 = 4u;
+const FROXEL_BLOCK_Y: u32 = 4u;
+const FROXEL_BLOCK_Z: u32 = 8u;
+
+fn froxel_block_pack(block: vec3<u32>) -> u32 {
+    return block.x | (block.y << 11u) | (block.z << 22u);
+}
+
+fn froxel_block_unpack(item: u32) -> vec3<u32> {
+    return vec3<u32>(item & 0x7ffu, (item >> 11u) & 0x7ffu, item >> 22u);
+}
+
 // Whether froxel id is injected this frame when injection is amortised over two frames
 // in a 3D checkerboard (FogFrame.checkerboard = 1): the froxels with x + y + z + index
-// even; every face neighbour of a skipped froxel is injected.
+// even, one of each pair of slices (2 k, 2 k + 1).
 fn froxel_injected(id: vec3<u32>, index: u32, checkerboard: u32) -> bool {
     return checkerboard == 0u || ((id.x + id.y + id.z + index) & 1u) == 0u;
 }

@@ -105,6 +105,23 @@ pub fn froxel_world_position(
     (frame.world_from_view.transform_point3(view), view.z.abs())
 }
 
+/// The froxel whose scattering the inject pass writes at `id` (a volume of `slices`
+/// slices): `id` itself, or with the checkerboard the froxel of `id`'s pair of slices
+/// (2 k, 2 k + 1) that [`froxel_injected`](super::froxel::froxel_injected) picks this
+/// frame (the lower one when the pair has no second slice).
+pub fn injected_source(id: UVec3, frame: &FogFrame, slices: u32) -> UVec3 {
+    if frame.checkerboard == 0 {
+        return id;
+    }
+    let pair = UVec3::new(id.x, id.y, id.z & !1);
+    let picks_second = !super::froxel::froxel_injected(pair, frame.index, 1);
+    if picks_second && pair.z + 1 < slices {
+        pair + UVec3::Z
+    } else {
+        pair
+    }
+}
+
 /// The scattering of froxel `id`: rgb = sigma_s L_in, a = sigma_t.
 pub fn froxel_scattering(inputs: &InjectInputs<'_>, id: UVec3) -> Vec4 {
     let (world, view_depth) =

@@ -9,38 +9,30 @@ use super::froxel::{froxel_injected, slice_coord, uv_from_ndc};
 use super::inject::froxel_world_position;
 use crate::uniforms::{FogFrame, Froxels, HistoryState};
 
-/// The history at `uvw` with culling (`live`: the live slices it was written with, per
-/// column): the filtered sample when every texel the look-up can touch was live, else
-/// the trilinear weights of the texels that were not live dropped and the rest
-/// renormalised; `None` when those carry less than half the weight.
-pub fn history_at(froxels: &Froxels, history: &Volume, uvw: Vec3, live: &[u32]) -> Option<Vec4> {
+/// Below this trilinear weight (per axis) a history texel is not required to be live
+/// (`HISTORY_REACH` of the temporal pass).
+pub const HISTORY_REACH: f32 = 0.015625;
+
+/// Whether every texel the trilinear look-up of a volume at `uvw` weighs by
+/// [`HISTORY_REACH`] or more lies within the live slices `live` (per column, x
+/// fastest) it was written with.
+pub fn history_live(froxels: &Froxels, uvw: Vec3, live: &[u32]) -> bool {
     let size = froxels.size;
     let texel = uvw * size.as_vec3() - 0.5;
     let base = texel.floor();
     let f = texel - base;
     let top = (size - 1).as_vec3();
     let lo = base.clamp(Vec3::ZERO, top).as_uvec3();
-    let hi = (lo + 1).min(size - 1);
+    let hi = (base + 1.0).clamp(Vec3::ZERO, top).as_uvec3();
+    let pick = |lo: u32, hi: u32, wants_hi: bool| if wants_hi { hi } else { lo };
+    let x0 = pick(hi.x, lo.x, 1.0 - f.x >= HISTORY_REACH);
+    let x1 = pick(lo.x, hi.x, f.x >= HISTORY_REACH);
+    let y0 = pick(hi.y, lo.y, 1.0 - f.y >= HISTORY_REACH);
+    let y1 = pick(lo.y, hi.y, f.y >= HISTORY_REACH);
+    let deepest = pick(lo.z, hi.z, f.z >= HISTORY_REACH);
     let at = |x: u32, y: u32| live[(y * size.x + x) as usize];
-    let reach = at(lo.x, lo.y)
-        .min(at(hi.x, lo.y))
-        .min(at(lo.x, hi.y))
-        .min(at(hi.x, hi.y));
-    if hi.z < reach {
-        return Some(history.sample(uvw));
-    }
-    let (mut sum, mut weight) = (Vec4::ZERO, 0.0);
-    for k in 0..8u32 {
-        let corner = UVec3::new(k & 1, (k >> 1) & 1, k >> 2);
-        let pick = |c: u32, f: f32| if c == 1 { f } else { 1.0 - f };
-        let w = pick(corner.x, f.x) * pick(corner.y, f.y) * pick(corner.z, f.z);
-        let p = (base + corner.as_vec3()).clamp(Vec3::ZERO, top).as_uvec3();
-        if w > 0.0 && p.z < at(p.x, p.y) {
-            sum += w * history.load(p.x as i32, p.y as i32, p.z as i32);
-            weight += w;
-        }
-    }
-    (weight >= 0.5).then(|| sum / weight)
+    let reach = at(x0, y0).min(at(x1, y0)).min(at(x0, y1)).min(at(x1, y1));
+    deepest < reach
 }
 
 /// The history of froxel `id` reprojected through the camera of `previous`: `None`
@@ -65,10 +57,10 @@ pub fn reproject(
     if uvw.cmplt(Vec3::ZERO).any() || uvw.cmpgt(Vec3::ONE).any() {
         return None;
     }
-    match history_live_slices {
-        Some(live) => history_at(froxels, history, uvw, live),
-        None => Some(history.sample(uvw)),
+    if history_live_slices.is_some_and(|live| !history_live(froxels, uvw, live)) {
+        return None;
     }
+    Some(history.sample(uvw))
 }
 
 /// The temporal pass for an injected froxel `id` without culling: `now` blended with
@@ -97,7 +89,8 @@ pub struct TemporalInputs<'a> {
     pub frame: &'a FogFrame,
     /// The state of the history volume.
     pub previous: &'a HistoryState,
-    /// This frame's scattering volume (read at injected froxels only).
+    /// This frame's scattering volume as inject wrote it (with the checkerboard, both
+    /// froxels of a pair hold the injected one's value).
     pub current: &'a Volume,
     /// The history volume.
     pub history: &'a Volume,
@@ -109,13 +102,13 @@ pub struct TemporalInputs<'a> {
 /// column's live slices), else the value it writes.
 pub fn temporal_froxel(t: &TemporalInputs<'_>, id: UVec3) -> Option<Vec4> {
     let size = t.froxels.size;
-    let live = |x: u32, y: u32| {
-        t.live_slices
-            .map_or(size.z, |(live, _)| live[(y * size.x + x) as usize])
-    };
-    if id.z >= live(id.x, id.y) {
+    let live = t
+        .live_slices
+        .map_or(size.z, |(live, _)| live[(id.y * size.x + id.x) as usize]);
+    if id.z >= live {
         return None;
     }
+    let now = t.current.load(id.x as i32, id.y as i32, id.z as i32);
     let past = reproject(
         t.froxels,
         t.frame,
@@ -124,36 +117,13 @@ pub fn temporal_froxel(t: &TemporalInputs<'_>, id: UVec3) -> Option<Vec4> {
         t.history,
         t.live_slices.map(|(_, history)| history),
     );
-    let load = |p: UVec3| t.current.load(p.x as i32, p.y as i32, p.z as i32);
-    if froxel_injected(id, t.frame.index, t.frame.checkerboard) {
-        let now = load(id);
-        return Some(match past {
-            Some(past) => now.lerp(past, t.frame.history_weight.clamp(0.0, 1.0)),
-            None => now,
-        });
-    }
-    if past.is_some() {
-        return past;
-    }
-    // The mean of the live face neighbours (injected this frame).
-    let (mut sum, mut count) = (Vec4::ZERO, 0.0);
-    for k in 0..6u32 {
-        let step = if k & 1 == 1 { 1 } else { -1 };
-        let offset = match k / 2 {
-            0 => glam::IVec3::new(step, 0, 0),
-            1 => glam::IVec3::new(0, step, 0),
-            _ => glam::IVec3::new(0, 0, step),
-        };
-        let n = id.as_ivec3() + offset;
-        if n.cmpge(glam::IVec3::ZERO).all() && n.cmplt(size.as_ivec3()).all() {
-            let m = n.as_uvec3();
-            if m.z < live(m.x, m.y) {
-                sum += load(m);
-                count += 1.0;
-            }
+    Some(match past {
+        None => now,
+        Some(past) if froxel_injected(id, t.frame.index, t.frame.checkerboard) => {
+            now.lerp(past, t.frame.history_weight.clamp(0.0, 1.0))
         }
-    }
-    Some(sum / f32::max(count, 1.0))
+        Some(past) => past,
+    })
 }
 
 /// The history state the temporal pass writes for `frame`.

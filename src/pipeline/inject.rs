@@ -9,8 +9,11 @@ use crate::limits::InvalidValue;
 pub use crate::options::InjectOptions;
 use crate::shaders::CodegenError;
 
-/// Workgroup size of the inject pass (each axis).
-pub const WORKGROUP: u32 = 4;
+/// Workgroup size of the inject pass: one invocation per froxel of a block of
+/// [`BLOCK`](super::cull::BLOCK) froxels.
+pub const WORKGROUP: [u32; 3] = [4, 4, 8];
+/// Workgroup size of the checkerboard variant: one invocation per pair of slices.
+pub const WORKGROUP_CHECKERBOARD: [u32; 3] = [4, 4, 4];
 
 /// Resources of one inject dispatch.
 #[derive(Debug)]
@@ -36,8 +39,9 @@ pub struct InjectResources<'a> {
     /// Density texture and its sampler (required by the density-texture variant,
     /// ignored by the others).
     pub density_texture: Option<(&'a wgpu::TextureView, &'a wgpu::Sampler)>,
-    /// The live-slice texture of `froxel_cull` (required by the depth-culling variant).
-    pub live_slices: Option<&'a wgpu::TextureView>,
+    /// The live-slice texture and the live blocks of `froxel_cull` (required by the
+    /// depth-culling variant).
+    pub culling: Option<(&'a wgpu::TextureView, &'a wgpu::Buffer)>,
     /// The baked noise texture and its linear, repeat sampler (required by the
     /// noise-texture variant).
     pub noise_texture: Option<(&'a wgpu::TextureView, &'a wgpu::Sampler)>,
@@ -81,6 +85,7 @@ impl InjectPass {
         }
         if options.depth_cull {
             entries.push(uint_texture_entry(11));
+            entries.push(storage_buffer_entry(14, c, true));
         }
         if options.noise_texture {
             entries.push(texture_entry(12, c, wgpu::TextureViewDimension::D3, true));
@@ -131,10 +136,14 @@ impl InjectPass {
             resources.push((10, wgpu::BindingResource::Sampler(sampler)));
         }
         if self.options.depth_cull {
-            let view = r
-                .live_slices
-                .ok_or_else(|| missing("InjectResources.live_slices", "a live-slice texture"))?;
+            let (view, blocks) = r.culling.ok_or_else(|| {
+                missing(
+                    "InjectResources.culling",
+                    "the live-slice texture and the live blocks",
+                )
+            })?;
             resources.push((11, wgpu::BindingResource::TextureView(view)));
+            resources.push((14, blocks.as_entire_binding()));
         }
         if self.options.noise_texture {
             let (view, sampler) = r.noise_texture.ok_or_else(|| {
@@ -154,26 +163,25 @@ impl InjectPass {
         ))
     }
 
-    /// Records the injection into a volume of `size` froxels; `checkerboard` must match
-    /// the frame's `FogFrame::checkerboard` (one invocation per pair of froxels along x).
+    /// Records the injection into a volume of `size` froxels: one workgroup per block
+    /// of [`BLOCK`](super::cull::BLOCK) froxels, or, for the depth-culling variant,
+    /// `indirect` (the dispatch arguments `froxel_cull` wrote, one workgroup per live
+    /// block).
     pub fn encode(
         &self,
         pass: &mut wgpu::ComputePass<'_>,
         group: &wgpu::BindGroup,
         size: [u32; 3],
-        checkerboard: bool,
+        indirect: Option<&wgpu::Buffer>,
     ) {
-        let columns = if checkerboard {
-            size[0].div_ceil(2)
-        } else {
-            size[0]
-        };
         pass.set_pipeline(&self.pipeline);
         pass.set_bind_group(0, group, &[]);
-        pass.dispatch_workgroups(
-            columns.div_ceil(WORKGROUP),
-            size[1].div_ceil(WORKGROUP),
-            size[2].div_ceil(WORKGROUP),
-        );
+        match indirect {
+            Some(args) => pass.dispatch_workgroups_indirect(args, 0),
+            None => {
+                let [x, y, z] = super::cull::block_grid(size);
+                pass.dispatch_workgroups(x, y, z);
+            }
+        }
     }
 }

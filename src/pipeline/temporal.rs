@@ -9,8 +9,9 @@ use crate::limits::InvalidValue;
 use crate::options::cull_defines;
 use crate::shaders::CodegenError;
 
-/// Workgroup size of the temporal pass (each axis).
-pub const WORKGROUP: u32 = 4;
+/// Workgroup size of the temporal pass: one invocation per pair of slices of a block
+/// of [`BLOCK`](super::cull::BLOCK) froxels.
+pub const WORKGROUP: [u32; 3] = [4, 4, 4];
 
 /// Resources of one temporal dispatch.
 #[derive(Debug)]
@@ -29,9 +30,13 @@ pub struct TemporalResources<'a> {
     pub stabilised: &'a wgpu::TextureView,
     /// Its `HistoryState`, written by the dispatch.
     pub stabilised_state: &'a wgpu::Buffer,
-    /// Live slices of this frame and of the history (read by the culling variant
-    /// only; `None` for the other).
-    pub live_slices: Option<(&'a wgpu::TextureView, &'a wgpu::TextureView)>,
+    /// Live slices of this frame and of the history, and the live blocks (read by the
+    /// culling variant only; `None` for the other).
+    pub culling: Option<(
+        &'a wgpu::TextureView,
+        &'a wgpu::TextureView,
+        &'a wgpu::Buffer,
+    )>,
 }
 
 /// The compiled temporal pass.
@@ -65,7 +70,11 @@ impl TemporalPass {
             storage_buffer_entry(7, c, false),
         ];
         if cull {
-            entries.extend([uint_texture_entry(8), uint_texture_entry(9)]);
+            entries.extend([
+                uint_texture_entry(8),
+                uint_texture_entry(9),
+                storage_buffer_entry(10, c, true),
+            ]);
         }
         entries
     }
@@ -100,15 +109,18 @@ impl TemporalPass {
             (7, r.stabilised_state.as_entire_binding()),
         ];
         if self.cull {
-            let Some((live, history_live)) = r.live_slices else {
+            let Some((live, history_live, blocks)) = r.culling else {
                 return Err(InvalidValue {
-                    field: "TemporalResources.live_slices",
+                    field: "TemporalResources.culling",
                     value: "None".to_string(),
-                    expected: "the live-slice textures for the depth-culling variant".into(),
+                    expected: "the live-slice textures and the live blocks for the \
+                               depth-culling variant"
+                        .into(),
                 });
             };
             resources.push((8, wgpu::BindingResource::TextureView(live)));
             resources.push((9, wgpu::BindingResource::TextureView(history_live)));
+            resources.push((10, blocks.as_entire_binding()));
         }
         Ok(bind_group(
             device,
@@ -118,19 +130,24 @@ impl TemporalPass {
         ))
     }
 
-    /// Records the pass over a volume of `size` froxels.
+    /// Records the pass over a volume of `size` froxels: one workgroup per block of
+    /// [`BLOCK`](super::cull::BLOCK) froxels, or, for the depth-culling variant,
+    /// `indirect` (the dispatch arguments `froxel_cull` wrote).
     pub fn encode(
         &self,
         pass: &mut wgpu::ComputePass<'_>,
         group: &wgpu::BindGroup,
         size: [u32; 3],
+        indirect: Option<&wgpu::Buffer>,
     ) {
         pass.set_pipeline(&self.pipeline);
         pass.set_bind_group(0, group, &[]);
-        pass.dispatch_workgroups(
-            size[0].div_ceil(WORKGROUP),
-            size[1].div_ceil(WORKGROUP),
-            size[2].div_ceil(WORKGROUP),
-        );
+        match indirect {
+            Some(args) => pass.dispatch_workgroups_indirect(args, 0),
+            None => {
+                let [x, y, z] = super::cull::block_grid(size);
+                pass.dispatch_workgroups(x, y, z);
+            }
+        }
     }
 }

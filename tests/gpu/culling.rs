@@ -12,7 +12,7 @@ use common::scene::*;
 use glam::{Mat4, UVec3, Vec2, Vec3, Vec4};
 use volfog::cpu::apply::{Volume, fog_coord};
 use volfog::cpu::froxel::{froxel_injected, live_slices_from_depth, view_from_ndc};
-use volfog::cpu::inject::{InjectInputs, froxel_scattering};
+use volfog::cpu::inject::{InjectInputs, froxel_scattering, injected_source};
 use volfog::cpu::temporal::{TemporalInputs, temporal_froxel};
 use volfog::pipeline::{FogConfig, FogPass, FrameInputs, VolumetricFog};
 use volfog::uniforms::{DirectionalLight, FogLight, FogMedium, Froxels, HistoryState};
@@ -358,13 +358,13 @@ fn culled_fog_equals_unculled_fog_wherever_it_is_read() {
             .count();
         eprintln!(
             "temporal={temporal} amortize={amortize}: {compared} read texels ({:.1} % of the \
-             volume), largest relative difference {worst:e} (bound 1e-3); applied images \
-             differ by at most {image_diff:e} (bound 1e-3), {fogged} of {} pixels fogged",
+             volume), largest relative difference {worst:e} (bound 2e-3, two rgba16float \
+             steps); applied images differ by at most {image_diff:e} (bound 2e-3), {fogged} of {} pixels fogged",
             100.0 * compared as f64 / (size.x * size.y * size.z) as f64,
             w * h
         );
-        assert!(worst <= 1e-3, "{worst}");
-        assert!(image_diff <= 1e-3, "{image_diff}");
+        assert!(worst <= 2e-3, "{worst}");
+        assert!(image_diff <= 2e-3, "{image_diff}");
         assert!(fogged > (w * h / 2) as usize, "the fog is visible");
         assert!(compared > 0);
     }
@@ -502,8 +502,9 @@ fn disoccluded_froxels_never_take_stale_history() {
 }
 
 /// One checkerboard frame with culling and the baked noise texture (the fast path):
-/// inject writes exactly the live froxels of this frame's colour, each equal to the CPU
-/// mirror (which samples the CPU bake), and leaves every other texel as it was.
+/// inject computes one froxel of each pair of slices whose first slice is live (the
+/// colour of this frame), equal to the CPU mirror (which samples the CPU bake), writes
+/// it to both froxels of the pair, and leaves every other texel as it was.
 #[test]
 fn checkerboard_inject_writes_this_frames_live_froxels_only() {
     let gpu = gpu();
@@ -566,13 +567,18 @@ fn checkerboard_inject_writes_this_frames_live_froxels_only() {
     };
     let size = config.volume_size;
     let (mut written, mut kept, mut worst) = (0, 0, 0.0f32);
+    let mut sources = std::collections::HashSet::new();
     for z in 0..size.z {
         for y in 0..size.y {
             for x in 0..size.x {
                 let id = UVec3::new(x, y, z);
                 let i = index(size, x, y, z);
-                if z < live[(y * size.x + x) as usize] && froxel_injected(id, 1, 1) {
-                    let want = froxel_scattering(&cpu, id);
+                // A pair of slices is injected when its first slice is live.
+                if (z & !1) < live[(y * size.x + x) as usize] {
+                    let source = injected_source(id, &u.frame, size.z);
+                    assert!(froxel_injected(source, 1, 1) || source.z + 1 == size.z);
+                    sources.insert(source);
+                    let want = froxel_scattering(&cpu, source);
                     let scale = want.max_element().max(1e-4);
                     worst = worst.max((after[i] - want).abs().max_element() / scale);
                     written += 1;
@@ -584,9 +590,11 @@ fn checkerboard_inject_writes_this_frames_live_froxels_only() {
         }
     }
     eprintln!(
-        "checkerboard + culling + noise texture: {written} froxels injected (worst relative error vs CPU \
-         {worst:e}, bound 4e-3), {kept} left untouched"
+        "checkerboard + culling + noise texture: {} froxels injected, {written} written \
+         (worst relative error vs CPU {worst:e}, bound 4e-3), {kept} left untouched",
+        sources.len()
     );
     assert!(worst <= 4e-3, "{worst}");
-    assert!(written > 0 && kept > written, "{written} {kept}");
+    assert!(written > 0 && kept > 0, "{written} {kept}");
+    assert_eq!(2 * sources.len(), written, "one injection per pair");
 }

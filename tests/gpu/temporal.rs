@@ -263,6 +263,9 @@ fn run_temporal(
             live_slices_texture(gpu, columns, values).create_view(&Default::default())
         })
     });
+    // Every block listed: the pass's own live-slice test does the culling.
+    let blocks = volfog::pipeline::cull::LiveBlocks::new(&gpu.device, size.to_array());
+    blocks.write_all(&gpu.queue, size.to_array());
     let v = |t: &wgpu::Texture| t.create_view(&Default::default());
     let group = pass
         .bind_group(
@@ -275,14 +278,15 @@ fn run_temporal(
                 history_state: &previous_state,
                 stabilised: &v(&out),
                 stabilised_state: &written_state,
-                live_slices: live_views.as_ref().map(|[a, b]| (a, b)),
+                culling: live_views.as_ref().map(|[a, b]| (a, b, &blocks.blocks)),
             },
         )
         .unwrap();
     let mut encoder = gpu.device.create_command_encoder(&Default::default());
     {
         let mut c = encoder.begin_compute_pass(&Default::default());
-        pass.encode(&mut c, &group, size.to_array());
+        let indirect = live.map(|_| &blocks.dispatch);
+        pass.encode(&mut c, &group, size.to_array(), indirect);
     }
     gpu.queue.submit([encoder.finish()]);
     (

@@ -208,6 +208,7 @@ fn runtime_layouts_match_the_shaders() {
             density_texture: v.defines.contains(&"VOLFOG_INJECT_DENSITY_TEXTURE"),
             noise_texture: v.defines.contains(&"VOLFOG_INJECT_NOISE_TEXTURE"),
             depth_cull: v.defines.contains(&CULL_DEFINE),
+            checkerboard: v.defines.contains(&"VOLFOG_INJECT_CHECKERBOARD"),
             ..InjectOptions::default()
         };
         checked += check(

@@ -99,10 +99,14 @@ fn manifest_resources(entry: &Value, into: &mut BTreeMap<(String, String), (u64,
             continue;
         }
         let namespace = glsl["namespace"].as_str().unwrap();
+        let size = b["resource"]["size"].as_u64();
         let (name, size) = match namespace {
-            "uniform_block" | "shader_storage_block" => (
+            "uniform_block" => (glsl["block"].as_str().unwrap(), size),
+            // Mesa reports a storage block's data size rounded up to 16 bytes (a block
+            // of one u32 array element, or of three u32, reads 16).
+            "shader_storage_block" => (
                 glsl["block"].as_str().unwrap(),
-                Some(b["resource"]["size"].as_u64().unwrap()),
+                size.map(|s| s.div_ceil(16) * 16),
             ),
             _ => (glsl["name"].as_str().unwrap(), None),
         };

@@ -57,7 +57,12 @@ fn module_constants_match_their_rust_twins() {
         ),
         (
             "volfog::froxel",
-            &[("CURVE_LINEAR_LIMIT", cpu::froxel::CURVE_LINEAR_LIMIT as f64)],
+            &[
+                ("CURVE_LINEAR_LIMIT", cpu::froxel::CURVE_LINEAR_LIMIT as f64),
+                ("FROXEL_BLOCK_X", volfog::pipeline::cull::BLOCK[0] as f64),
+                ("FROXEL_BLOCK_Y", volfog::pipeline::cull::BLOCK[1] as f64),
+                ("FROXEL_BLOCK_Z", volfog::pipeline::cull::BLOCK[2] as f64),
+            ],
         ),
         (
             "volfog::height_fog",
@@ -187,7 +192,7 @@ fn module_constants_match_their_rust_twins() {
 
 #[test]
 fn pass_constants_and_workgroups_match_the_runtime() {
-    use volfog::pipeline::{esm, inject, noise, scan, temporal};
+    use volfog::pipeline::{cull, esm, inject, noise, scan, temporal};
     let pass = |name: &str, defines: &[&str]| {
         let defines: Vec<String> = defines.iter().map(|d| d.to_string()).collect();
         volfog::shaders::compose(name, &defines).unwrap()
@@ -201,6 +206,10 @@ fn pass_constants_and_workgroups_match_the_runtime() {
         constant(&inject_module, "HALF_MAX"),
         Some(cpu::inject::HALF_MAX as f64)
     );
+    assert_eq!(
+        constant(&pass("temporal", &["VOLFOG_FROXEL_CULL"]), "HISTORY_REACH"),
+        Some(cpu::temporal::HISTORY_REACH as f64)
+    );
     let blur = pass("esm_blur", &[]);
     assert_eq!(constant(&blur, "GROUP"), Some(esm::BLUR_GROUP as f64));
     let workgroup = |m: &naga::Module, entry: &str| {
@@ -210,12 +219,22 @@ fn pass_constants_and_workgroups_match_the_runtime() {
             .unwrap()
             .workgroup_size
     };
-    let w = inject::WORKGROUP;
-    assert_eq!(workgroup(&inject_module, "inject"), [w, w, w]);
+    assert_eq!(workgroup(&inject_module, "inject"), inject::WORKGROUP);
+    assert_eq!(
+        workgroup(&pass("inject", &["VOLFOG_INJECT_CHECKERBOARD"]), "inject"),
+        inject::WORKGROUP_CHECKERBOARD
+    );
+    let cull_module = pass("froxel_cull", &[]);
+    let w = cull::WORKGROUP;
+    assert_eq!(workgroup(&cull_module, "froxel_cull"), [w, w, 1]);
+    let w = cull::COMPACT_WORKGROUP;
+    assert_eq!(workgroup(&cull_module, "froxel_cull_compact"), [w, w, 1]);
     let w = noise::WORKGROUP;
     assert_eq!(workgroup(&pass("noise_bake", &[]), "noise_bake"), [w, w, w]);
-    let w = temporal::WORKGROUP;
-    assert_eq!(workgroup(&pass("temporal", &[]), "temporal"), [w, w, w]);
+    assert_eq!(
+        workgroup(&pass("temporal", &[]), "temporal"),
+        temporal::WORKGROUP
+    );
     assert_eq!(
         workgroup(&pass("scan", &[]), "scan"),
         [scan::WORKGROUP, scan::WORKGROUP, 1]

@@ -35,7 +35,8 @@ use volfog_codegen::translate::VariantOutput;
 /// The text targets that are snapshotted.
 const TEXT_TARGETS: [Target; 4] = [Target::Wgsl, Target::Glsl, Target::Hlsl, Target::Msl];
 
-/// The default variant of a pass and, per define of its axes, the variant with it.
+/// The default variant of a pass and, per choice of its axes (a define, or the defines
+/// of an `Axis::Together`), the variant with it.
 fn snapshotted(pass: &str) -> (&'static VariantOutput, Vec<&'static VariantOutput>) {
     let find = |name: &str| {
         crate::common::variants()
@@ -44,14 +45,11 @@ fn snapshotted(pass: &str) -> (&'static VariantOutput, Vec<&'static VariantOutpu
             .unwrap_or_else(|| panic!("variant {name}"))
     };
     let p = manifest::pass(pass).unwrap();
-    let defines: Vec<&str> = p
+    let axis_variants = p
         .axes
         .iter()
-        .flat_map(|a| a.defines().iter().copied())
-        .collect();
-    let axis_variants = defines
-        .iter()
-        .map(|d| find(&manifest::variant_name(pass, &[d])))
+        .flat_map(|a| a.choices())
+        .map(|choice| find(&manifest::variant_name(pass, &choice)))
         .collect();
     (find(&manifest::variant_name(pass, &[])), axis_variants)
 }

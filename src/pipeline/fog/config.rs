@@ -139,6 +139,7 @@ impl FogConfig {
             esm_log_space: self.esm_log_space,
             noise_texture: self.noise_texture,
             depth_cull: self.depth_cull,
+            checkerboard: self.amortize,
             noise_octaves: self.noise_octaves,
         }
     }

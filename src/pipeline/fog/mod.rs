@@ -49,7 +49,7 @@ pub use inputs::{FogPass, FrameInputs, FrameUniforms, PassTimings};
 pub use resources::{SCENE_DEPTH_FORMATS, SHADOW_MAP_FORMATS, VOLUME_FORMAT, check_device};
 
 use super::apply::{ApplyPipeline, FogResources, fog_bind_group, fog_layout_entries, fog_sampler};
-use super::cull::{FroxelCullPass, live_slices_texture, write_all_live};
+use super::cull::{FroxelCullPass, LiveBlocks, live_slices_texture, write_all_live};
 use super::esm::EsmPasses;
 use super::inject::{InjectPass, InjectResources};
 use super::noise::{NoiseBake, noise_sampler};
@@ -161,6 +161,8 @@ struct Culling {
     pass: FroxelCullPass,
     live: [wgpu::Texture; 2],
     views: [wgpu::TextureView; 2],
+    /// The live blocks and the indirect dispatch arguments of this frame.
+    blocks: LiveBlocks,
     /// The scene depth, its mip level and the cull groups of both parities.
     depth: Option<(wgpu::Texture, u32, [wgpu::BindGroup; 2])>,
     /// Whether both textures hold "every slice live" (written by `prepare` while no
@@ -248,6 +250,7 @@ impl VolumetricFog {
                 pass: FroxelCullPass::new(device)?,
                 views: [view(&live[0]), view(&live[1])],
                 live,
+                blocks: LiveBlocks::new(device, size.to_array()),
                 depth: None,
                 all_live: false,
             })
@@ -255,6 +258,7 @@ impl VolumetricFog {
             None
         };
         let live_view = |p: usize| culling.as_ref().map(|c| &c.views[p]);
+        let live_blocks = culling.as_ref().map(|c| &c.blocks.blocks);
 
         let scattering = volume_texture(device, "volfog scattering", size);
         let scattering_view = view(&scattering);
@@ -285,7 +289,10 @@ impl VolumetricFog {
                         history_state: &states[1 - p],
                         stabilised: &views[p],
                         stabilised_state: &states[p],
-                        live_slices: live_view(p).zip(live_view(1 - p)),
+                        culling: live_view(p)
+                            .zip(live_view(1 - p))
+                            .zip(live_blocks)
+                            .map(|((a, b), c)| (a, b, c)),
                     },
                 )
                 .expect("the fog binds live slices whenever it culls")
@@ -346,7 +353,7 @@ impl VolumetricFog {
                 &scattering_view,
                 InjectTextures {
                     density: density.as_ref(),
-                    live_slices: live_view(p),
+                    culling: live_view(p).zip(live_blocks),
                     noise: noise.as_ref(),
                 },
             )
@@ -480,7 +487,11 @@ impl VolumetricFog {
         check_density_texture(texture, device)?;
         density.texture = texture.clone();
         density.user = true;
-        let live = |p: usize| self.culling.as_ref().map(|c| &c.views[p]);
+        let live = |p: usize| {
+            self.culling
+                .as_ref()
+                .map(|c| (&c.views[p], &c.blocks.blocks))
+        };
         self.inject_groups = [0, 1].map(|p| {
             inject_bind_group(
                 device,
@@ -490,7 +501,7 @@ impl VolumetricFog {
                 &view(&self.scattering),
                 InjectTextures {
                     density: self.density.as_ref(),
-                    live_slices: live(p),
+                    culling: live(p),
                     noise: self.noise.as_ref(),
                 },
             )
@@ -540,6 +551,7 @@ impl VolumetricFog {
                 &self.buffers.froxels,
                 &depth_view,
                 &culling.views[p],
+                &culling.blocks,
             )
         });
         culling.depth = Some((texture.clone(), mip_level, groups));
@@ -599,6 +611,8 @@ impl VolumetricFog {
             for texture in &c.live {
                 write_all_live(queue, texture, self.config.volume_size.z);
             }
+            c.blocks
+                .write_all(queue, self.config.volume_size.to_array());
             c.all_live = true;
         }
         if let Some(n) = self.noise.as_mut().filter(|n| !n.baked) {
@@ -657,6 +671,8 @@ impl VolumetricFog {
             FogPass::Scan => "volfog scan",
             FogPass::Cull => "volfog froxel_cull",
         };
+        // With culling, inject and temporal run over the listed live blocks.
+        let indirect = self.culling.as_ref().map(|c| &c.blocks.dispatch);
         let cull = self
             .culling
             .as_ref()
@@ -694,11 +710,12 @@ impl VolumetricFog {
             }
             FogPass::Inject => {
                 self.inject
-                    .encode(&mut compute, &self.inject_groups[parity], size, c.amortize)
+                    .encode(&mut compute, &self.inject_groups[parity], size, indirect)
             }
             FogPass::Temporal => {
                 let t = self.temporal.as_ref().expect("checked above");
-                t.pass.encode(&mut compute, &t.groups[parity], size);
+                t.pass
+                    .encode(&mut compute, &t.groups[parity], size, indirect);
             }
             FogPass::Scan => {
                 self.scan
@@ -706,7 +723,7 @@ impl VolumetricFog {
             }
             FogPass::Cull => {
                 let (pass, (_, _, groups)) = cull.expect("checked above");
-                pass.encode(&mut compute, &groups[parity], [size[0], size[1]]);
+                pass.encode(&mut compute, &groups[parity], size);
             }
         }
         Ok(())
@@ -836,6 +853,9 @@ impl VolumetricFog {
             textures.push(&n.texture);
         }
         let mut buffers: Vec<&wgpu::Buffer> = self.buffers.all().to_vec();
+        if let Some(c) = &self.culling {
+            buffers.extend([&c.blocks.blocks, &c.blocks.dispatch]);
+        }
         if let Some(t) = &self.temporal {
             buffers.extend(&t.states);
         }
@@ -919,7 +939,7 @@ fn density_sampler(device: &wgpu::Device) -> wgpu::Sampler {
 /// The optional textures an inject variant reads.
 struct InjectTextures<'a> {
     density: Option<&'a Density>,
-    live_slices: Option<&'a wgpu::TextureView>,
+    culling: Option<(&'a wgpu::TextureView, &'a wgpu::Buffer)>,
     noise: Option<&'a Noise>,
 }
 
@@ -933,7 +953,7 @@ fn inject_bind_group(
 ) -> wgpu::BindGroup {
     let InjectTextures {
         density,
-        live_slices,
+        culling,
         noise,
     } = textures;
     let density_view = density.map(|d| view(&d.texture));
@@ -952,7 +972,7 @@ fn inject_bind_group(
                 local_volumes: &buffers.local_volumes,
                 scattering,
                 density_texture: density_view.as_ref().zip(density.map(|d| &d.sampler)),
-                live_slices,
+                culling,
                 noise_texture: noise_view.as_ref().zip(noise.map(|n| &n.sampler)),
             },
         )
