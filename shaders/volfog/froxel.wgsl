@@ -121,18 +121,20 @@ fn froxel_live_slices(max_depth: f32, slices: u32, near: f32, far: f32, curve: f
     return min(first + 2u, slices);
 }
 
-// The texels (inclusive min.xy, max.xy) of a depth texture of size texels that cover
-// froxel column `column` of a grid of `grid` columns, widened by half a column on each
-// side (the reach of the bilinear look-up); works for any depth resolution, e.g. a
+// Depth culling reduces the depth buffer in two steps: per cell of half a column on
+// each axis (a grid of 2 size.x x 2 size.y cells), then per column over the 4 x 4 cells
+// 2 i - 1 ..= 2 i + 2 that make up its footprint widened by half a column on each side
+// (the reach of the bilinear look-up); each texel is read once.
+
+// The texels (inclusive min.xy, max.xy) of a depth texture of size texels that overlap
+// cell `cell` of a grid of `cells` cells; works for any depth resolution, e.g. a
 // conservative (farthest-depth) level of a hierarchical depth buffer.
-fn froxel_cull_footprint(column: vec2<u32>, grid: vec2<u32>, texels: vec2<u32>) -> vec4<u32> {
-    let scale = vec2<f32>(texels) / vec2<f32>(grid);
-    let lo = floor((vec2<f32>(column) - 0.5) * scale);
-    let hi = floor((vec2<f32>(column) + 1.5) * scale);
+fn froxel_cull_cell(cell: vec2<u32>, cells: vec2<u32>, texels: vec2<u32>) -> vec4<u32> {
+    let scale = vec2<f32>(texels) / vec2<f32>(cells);
     let top = vec2<f32>(texels) - 1.0;
-    let a = vec2<u32>(clamp(lo, vec2<f32>(0.0), top));
-    let b = vec2<u32>(clamp(hi, vec2<f32>(0.0), top));
-    return vec4<u32>(a, b);
+    let lo = vec2<u32>(clamp(floor(vec2<f32>(cell) * scale), vec2<f32>(0.0), top));
+    let hi = vec2<u32>(clamp(floor(vec2<f32>(cell + 1u) * scale), vec2<f32>(0.0), top));
+    return vec4<u32>(lo, hi);
 }
 
 // Froxel blocks. inject and temporal give each workgroup a block of

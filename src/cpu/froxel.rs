@@ -102,16 +102,15 @@ pub fn froxel_live_slices(max_depth: f32, slices: u32, near: f32, far: f32, curv
 }
 
 /// The texels (inclusive `[min_x, min_y, max_x, max_y]`) of a depth texture of size
-/// `texels` that cover froxel column `column` of a `grid`, widened by half a column on
-/// each side.
-pub fn froxel_cull_footprint(column: UVec2, grid: UVec2, texels: UVec2) -> [u32; 4] {
-    let scale = texels.as_vec2() / grid.as_vec2();
-    let lo = ((column.as_vec2() - 0.5) * scale).floor();
-    let hi = ((column.as_vec2() + 1.5) * scale).floor();
+/// `texels` that overlap cell `cell` of a grid of `cells` cells (half a column each).
+pub fn froxel_cull_cell(cell: UVec2, cells: UVec2, texels: UVec2) -> [u32; 4] {
+    let scale = texels.as_vec2() / cells.as_vec2();
     let top = texels.as_vec2() - 1.0;
-    let a = lo.clamp(Vec2::ZERO, top);
-    let b = hi.clamp(Vec2::ZERO, top);
-    [a.x as u32, a.y as u32, b.x as u32, b.y as u32]
+    let lo = (cell.as_vec2() * scale).floor().clamp(Vec2::ZERO, top);
+    let hi = ((cell + 1).as_vec2() * scale)
+        .floor()
+        .clamp(Vec2::ZERO, top);
+    [lo.x as u32, lo.y as u32, hi.x as u32, hi.y as u32]
 }
 
 /// Whether froxel `id` is injected in frame `index` (3D checkerboard amortisation
@@ -121,7 +120,8 @@ pub fn froxel_injected(id: UVec3, index: u32, checkerboard: u32) -> bool {
 }
 
 /// The froxel_cull pass: live slices per column (x fastest) of a grid from a depth
-/// buffer of `width` x `height` depth-buffer values (x fastest).
+/// buffer of `width` x `height` depth-buffer values (x fastest): the farthest view
+/// depth per cell of half a column, then per column over its 4 x 4 cells.
 pub fn live_slices_from_depth(
     froxels: &crate::uniforms::Froxels,
     depth: &[f32],
@@ -129,11 +129,17 @@ pub fn live_slices_from_depth(
     height: u32,
 ) -> Vec<u32> {
     let grid = froxels.size.truncate();
+    let cells = 2 * grid;
     let texels = UVec2::new(width, height);
-    let mut out = Vec::with_capacity((grid.x * grid.y) as usize);
-    for y in 0..grid.y {
-        for x in 0..grid.x {
-            let [x0, y0, x1, y1] = froxel_cull_footprint(UVec2::new(x, y), grid, texels);
+    let view_depth = |d: f32| {
+        view_from_ndc(Vec3::new(0.0, 0.0, d), froxels.view_from_clip)
+            .z
+            .abs()
+    };
+    let mut farthest = Vec::with_capacity((cells.x * cells.y) as usize);
+    for cy in 0..cells.y {
+        for cx in 0..cells.x {
+            let [x0, y0, x1, y1] = froxel_cull_cell(UVec2::new(cx, cy), cells, texels);
             let (mut lo, mut hi) = (1.0f32, 0.0f32);
             for ty in y0..=y1 {
                 for tx in x0..=x1 {
@@ -144,14 +150,22 @@ pub fn live_slices_from_depth(
                     hi = hi.max(d);
                 }
             }
-            let view_depth = |d: f32| {
-                view_from_ndc(Vec3::new(0.0, 0.0, d), froxels.view_from_clip)
-                    .z
-                    .abs()
-            };
-            let far = view_depth(lo).max(view_depth(hi));
+            farthest.push(view_depth(lo).max(view_depth(hi)));
+        }
+    }
+    let mut out = Vec::with_capacity((grid.x * grid.y) as usize);
+    for y in 0..grid.y {
+        for x in 0..grid.x {
+            let first = (2 * UVec2::new(x, y)).max(UVec2::ONE) - 1;
+            let last = (2 * UVec2::new(x, y) + 2).min(cells - 1);
+            let mut deepest = 0.0f32;
+            for cy in first.y..=last.y {
+                for cx in first.x..=last.x {
+                    deepest = deepest.max(farthest[(cy * cells.x + cx) as usize]);
+                }
+            }
             out.push(froxel_live_slices(
-                far,
+                deepest,
                 froxels.size.z,
                 froxels.near,
                 froxels.far,

@@ -6,7 +6,8 @@ use super::{bind_group, bind_group_layout, compute_pipeline, shader_module, text
 use super::{storage_buffer_entry, uniform_entry};
 use crate::shaders::CodegenError;
 
-/// Workgroup size of `froxel_cull` (x, y): one workgroup per froxel column.
+/// Workgroup size (x, y) of `froxel_cull_cells` (one invocation per cell of half a
+/// column) and `froxel_cull` (one per column).
 pub const WORKGROUP: u32 = 8;
 /// Workgroup size of `froxel_cull_compact` (x, y): one invocation per column of blocks.
 pub const COMPACT_WORKGROUP: u32 = 8;
@@ -31,6 +32,7 @@ pub fn pack_block(b: [u32; 3]) -> u32 {
 #[derive(Debug)]
 pub struct FroxelCullPass {
     layout: wgpu::BindGroupLayout,
+    cells: wgpu::ComputePipeline,
     cull: wgpu::ComputePipeline,
     compact: wgpu::ComputePipeline,
 }
@@ -43,6 +45,8 @@ pub struct LiveBlocks {
     pub blocks: wgpu::Buffer,
     /// `[x, y, z]` workgroups (`INDIRECT | STORAGE`).
     pub dispatch: wgpu::Buffer,
+    /// The farthest view depth per cell of half a column (scratch of the pass).
+    pub cells: wgpu::Buffer,
 }
 
 impl LiveBlocks {
@@ -69,6 +73,11 @@ impl LiveBlocks {
                 12,
                 wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::INDIRECT | copy,
             ),
+            cells: buffer(
+                "volfog cull cells",
+                16 * u64::from(size[0] * size[1]),
+                wgpu::BufferUsages::STORAGE,
+            ),
         }
     }
 
@@ -90,18 +99,18 @@ impl LiveBlocks {
         queue.write_buffer(&self.dispatch, 0, &args);
     }
 
-    /// Bytes of both buffers.
+    /// Bytes of the buffers.
     pub fn bytes(&self) -> u64 {
-        self.blocks.size() + self.dispatch.size()
+        self.blocks.size() + self.dispatch.size() + self.cells.size()
     }
 }
 
 impl FroxelCullPass {
     /// Layout: 0 `Froxels` uniform, 1 scene depth (2D, unfilterable float; a depth
     /// texture's depth aspect or any float texture of depth-buffer values), 2 the
-    /// live-slice texture (2D r32uint, read-write storage), 3 the live blocks and 4 the
-    /// dispatch arguments (read-write storage buffers).
-    pub fn layout_entries() -> [wgpu::BindGroupLayoutEntry; 5] {
+    /// live-slice texture (2D r32uint, read-write storage), 3 the live blocks, 4 the
+    /// dispatch arguments and 5 the cell depths (read-write storage buffers).
+    pub fn layout_entries() -> [wgpu::BindGroupLayoutEntry; 6] {
         let c = wgpu::ShaderStages::COMPUTE;
         [
             uniform_entry(0, c),
@@ -118,6 +127,7 @@ impl FroxelCullPass {
             },
             storage_buffer_entry(3, c, false),
             storage_buffer_entry(4, c, false),
+            storage_buffer_entry(5, c, false),
         ]
     }
 
@@ -127,6 +137,7 @@ impl FroxelCullPass {
         let layout = bind_group_layout(device, "volfog froxel_cull", &Self::layout_entries());
         let label = "volfog froxel_cull";
         Ok(Self {
+            cells: compute_pipeline(device, label, &module, "froxel_cull_cells", &layout),
             cull: compute_pipeline(device, label, &module, "froxel_cull", &layout),
             compact: compute_pipeline(device, label, &module, "froxel_cull_compact", &layout),
             layout,
@@ -153,11 +164,12 @@ impl FroxelCullPass {
                 (2, wgpu::BindingResource::TextureView(live_slices)),
                 (3, blocks.blocks.as_entire_binding()),
                 (4, blocks.dispatch.as_entire_binding()),
+                (5, blocks.cells.as_entire_binding()),
             ],
         )
     }
 
-    /// Records both entry points for a volume of `size` froxels.
+    /// Records the three entry points for a volume of `size` froxels.
     pub fn encode(
         &self,
         pass: &mut wgpu::ComputePass<'_>,
@@ -165,8 +177,14 @@ impl FroxelCullPass {
         size: [u32; 3],
     ) {
         pass.set_bind_group(0, group, &[]);
+        pass.set_pipeline(&self.cells);
+        pass.dispatch_workgroups(
+            (2 * size[0]).div_ceil(WORKGROUP),
+            (2 * size[1]).div_ceil(WORKGROUP),
+            1,
+        );
         pass.set_pipeline(&self.cull);
-        pass.dispatch_workgroups(size[0], size[1], 1);
+        pass.dispatch_workgroups(size[0].div_ceil(WORKGROUP), size[1].div_ceil(WORKGROUP), 1);
         let [x, y, _] = block_grid(size);
         pass.set_pipeline(&self.compact);
         pass.dispatch_workgroups(

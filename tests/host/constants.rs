@@ -226,6 +226,7 @@ fn pass_constants_and_workgroups_match_the_runtime() {
     );
     let cull_module = pass("froxel_cull", &[]);
     let w = cull::WORKGROUP;
+    assert_eq!(workgroup(&cull_module, "froxel_cull_cells"), [w, w, 1]);
     assert_eq!(workgroup(&cull_module, "froxel_cull"), [w, w, 1]);
     let w = cull::COMPACT_WORKGROUP;
     assert_eq!(workgroup(&cull_module, "froxel_cull_compact"), [w, w, 1]);
