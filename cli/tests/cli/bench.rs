@@ -38,6 +38,10 @@ fn quick_bench_writes_every_ratio_memory_and_adapter() {
         "apply / blit",
         "raymarch / froxel pipeline",
         "froxel cost 4K / 720p camera",
+        "inject (baseline) / write",
+        "inject (fast) / write",
+        "raymarch / froxel fast",
+        "froxels live after depth culling",
         "VolumetricFog::memory_bytes",
     ] {
         assert!(stdout.contains(line), "the table lacks {line:?}");
@@ -51,6 +55,9 @@ fn quick_bench_writes_every_ratio_memory_and_adapter() {
         "apply_vs_blit",
         "raymarch_vs_froxel",
         "froxel_4k_vs_720p",
+        "inject_vs_write",
+        "inject_fast_vs_write",
+        "raymarch_vs_froxel_fast",
     ] {
         let r = &report["ratios"][ratio];
         let value = r["value"].as_f64().unwrap_or(f64::NAN);
@@ -72,6 +79,14 @@ fn quick_bench_writes_every_ratio_memory_and_adapter() {
         "raymarch_1080p",
         "froxel_720p",
         "froxel_4k",
+        "cull",
+        "inject_cull",
+        "inject_checkerboard",
+        "inject_noise_texture",
+        "inject_fast",
+        "temporal_fast",
+        "write",
+        "froxel_fast_1080p",
     ] {
         let median = passes[key]["median_ms"].as_f64().unwrap_or(f64::NAN);
         assert!(median.is_finite() && median > 0.0, "{key}: {median}");
@@ -83,6 +98,10 @@ fn quick_bench_writes_every_ratio_memory_and_adapter() {
     assert!(!adapter.is_empty(), "adapter name");
     assert!(report["clock"].is_string());
     assert_eq!(report["settings"]["raymarch_steps"], 64);
+    let live = report["culling"]["live_fraction"]
+        .as_f64()
+        .unwrap_or(f64::NAN);
+    assert!(live > 0.0 && live < 1.0, "the bench scene culls: {live}");
 }
 
 /// Depth-buffer values of a ground plane y = 0 (1 for the sky), row by row from the top.
