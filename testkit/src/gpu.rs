@@ -346,6 +346,20 @@ impl Gpu {
         output_bytes: u64,
         count: u32,
     ) -> Result<Vec<u8>, GpuError> {
+        self.run_kernel_with(module, entry, inputs, output_bytes, count, &[])
+    }
+
+    /// [`Gpu::run_kernel`] with more resources in group 0: `extra[i]` at binding
+    /// `2 + i` (textures and samplers the kernel reads).
+    pub fn run_kernel_with(
+        &self,
+        module: &wgpu::ShaderModule,
+        entry: &str,
+        inputs: &[u8],
+        output_bytes: u64,
+        count: u32,
+        extra: &[wgpu::BindingResource<'_>],
+    ) -> Result<Vec<u8>, GpuError> {
         use wgpu::util::DeviceExt;
         let input = self
             .device
@@ -371,20 +385,30 @@ impl Gpu {
                     cache: None,
                 })
         })?;
+        let mut entries = vec![
+            wgpu::BindGroupEntry {
+                binding: 0,
+                resource: input.as_entire_binding(),
+            },
+            wgpu::BindGroupEntry {
+                binding: 1,
+                resource: output.as_entire_binding(),
+            },
+        ];
+        entries.extend(
+            extra
+                .iter()
+                .enumerate()
+                .map(|(i, resource)| wgpu::BindGroupEntry {
+                    binding: 2 + i as u32,
+                    resource: resource.clone(),
+                }),
+        );
         let bind_group = self.checked(|| {
             self.device.create_bind_group(&wgpu::BindGroupDescriptor {
                 label: Some("kernel"),
                 layout: &pipeline.get_bind_group_layout(0),
-                entries: &[
-                    wgpu::BindGroupEntry {
-                        binding: 0,
-                        resource: input.as_entire_binding(),
-                    },
-                    wgpu::BindGroupEntry {
-                        binding: 1,
-                        resource: output.as_entire_binding(),
-                    },
-                ],
+                entries: &entries,
             })
         })?;
         let mut encoder = self.device.create_command_encoder(&Default::default());

@@ -127,60 +127,20 @@ fn lookup(
         wgpu::util::TextureDataOrder::LayerMajor,
         bytemuck::cast_slice(&esm_layer.texels),
     );
-    let input = gpu
-        .device
-        .create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: None,
-            contents: bytemuck::cast_slice(queries),
-            usage: wgpu::BufferUsages::STORAGE,
-        });
-    let output = gpu.device.create_buffer(&wgpu::BufferDescriptor {
-        label: None,
-        size: (queries.len() * 4) as u64,
-        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
-        mapped_at_creation: false,
-    });
-    let pipeline = gpu
-        .device
-        .create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-            label: None,
-            layout: None,
-            module: &module,
-            entry_point: Some("main"),
-            compilation_options: Default::default(),
-            cache: None,
-        });
     let view = texture.create_view(&wgpu::TextureViewDescriptor {
         dimension: Some(wgpu::TextureViewDimension::D2Array),
         ..Default::default()
     });
-    let group = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
-        label: None,
-        layout: &pipeline.get_bind_group_layout(0),
-        entries: &[
-            wgpu::BindGroupEntry {
-                binding: 0,
-                resource: input.as_entire_binding(),
-            },
-            wgpu::BindGroupEntry {
-                binding: 1,
-                resource: output.as_entire_binding(),
-            },
-            wgpu::BindGroupEntry {
-                binding: 2,
-                resource: wgpu::BindingResource::TextureView(&view),
-            },
-        ],
-    });
-    let mut encoder = gpu.device.create_command_encoder(&Default::default());
-    {
-        let mut pass = encoder.begin_compute_pass(&Default::default());
-        pass.set_pipeline(&pipeline);
-        pass.set_bind_group(0, &group, &[]);
-        pass.dispatch_workgroups((queries.len() as u32).div_ceil(64), 1, 1);
-    }
-    gpu.queue.submit([encoder.finish()]);
-    let bytes = gpu.read_buffer(&output).unwrap();
+    let bytes = gpu
+        .run_kernel_with(
+            &module,
+            "main",
+            bytemuck::cast_slice(queries),
+            (queries.len() * 4) as u64,
+            queries.len() as u32,
+            &[wgpu::BindingResource::TextureView(&view)],
+        )
+        .unwrap();
     bytemuck::cast_slice(&bytes).to_vec()
 }
 

@@ -132,65 +132,26 @@ fn eval_texture_gpu(
     texture: &wgpu::Texture,
     points: &[(Vec3, u32)],
 ) -> Vec<(f32, f32, f32)> {
-    use wgpu::util::DeviceExt;
-    let device = &gpu.device;
     let inputs: Vec<f32> = points
         .iter()
         .flat_map(|(p, o)| [p.x, p.y, p.z, *o as f32])
         .collect();
-    let input = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-        label: Some("noise texture kernel input"),
-        contents: bytemuck::cast_slice(&inputs),
-        usage: wgpu::BufferUsages::STORAGE,
-    });
-    let output = device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some("noise texture kernel output"),
-        size: (3 * 4 * points.len()) as u64,
-        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
-        mapped_at_creation: false,
-    });
     let module = gpu.shader_from_naga("noise texture kernel", common::compose(TEXTURE_KERNEL, &[]));
-    let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-        label: Some("noise texture kernel"),
-        layout: None,
-        module: &module,
-        entry_point: Some("main"),
-        compilation_options: Default::default(),
-        cache: None,
-    });
     let view = texture.create_view(&Default::default());
-    let sampler = noise_sampler(device);
-    let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-        label: Some("noise texture kernel"),
-        layout: &pipeline.get_bind_group_layout(0),
-        entries: &[
-            wgpu::BindGroupEntry {
-                binding: 0,
-                resource: input.as_entire_binding(),
-            },
-            wgpu::BindGroupEntry {
-                binding: 1,
-                resource: output.as_entire_binding(),
-            },
-            wgpu::BindGroupEntry {
-                binding: 2,
-                resource: wgpu::BindingResource::TextureView(&view),
-            },
-            wgpu::BindGroupEntry {
-                binding: 3,
-                resource: wgpu::BindingResource::Sampler(&sampler),
-            },
-        ],
-    });
-    let mut encoder = device.create_command_encoder(&Default::default());
-    {
-        let mut pass = encoder.begin_compute_pass(&Default::default());
-        pass.set_pipeline(&pipeline);
-        pass.set_bind_group(0, &group, &[]);
-        pass.dispatch_workgroups((points.len() as u32).div_ceil(64), 1, 1);
-    }
-    gpu.queue.submit([encoder.finish()]);
-    let bytes = gpu.read_buffer(&output).expect("readback");
+    let sampler = noise_sampler(&gpu.device);
+    let bytes = gpu
+        .run_kernel_with(
+            &module,
+            "main",
+            bytemuck::cast_slice(&inputs),
+            (3 * 4 * points.len()) as u64,
+            points.len() as u32,
+            &[
+                wgpu::BindingResource::TextureView(&view),
+                wgpu::BindingResource::Sampler(&sampler),
+            ],
+        )
+        .expect("kernel runs");
     let out: &[f32] = bytemuck::cast_slice(&bytes);
     out.chunks(3).map(|c| (c[0], c[1], c[2])).collect()
 }
