@@ -26,8 +26,10 @@
 //  13  sampler, linear, repeat (VOLFOG_INJECT_NOISE_TEXTURE only)
 //  14  storage, read: array<u32>, the live blocks from froxel_cull_compact
 //      (VOLFOG_FROXEL_CULL only)
-// Lights are culled per workgroup: the lights whose range touches the block's bounding
-// sphere are gathered in workgroup memory (at most 64), so distant lights cost nothing.
+// Lights and local volumes are culled per workgroup: those whose range or extent touches
+// the block's bounding sphere are gathered in workgroup memory (at most 64 lights; when
+// more than 64 local volumes touch a block, every volume is evaluated), so distant ones
+// cost nothing.
 // A froxel without extinction gets no lighting (its in-scattering is 0 whatever the light).
 // Defines:
 //   VOLFOG_INJECT_JITTER            sample each froxel at FogFrame.jitter instead of its centre
@@ -48,7 +50,7 @@
 #else
 #import volfog::noise::noise_animated
 #endif
-#import volfog::density::{medium_extinction, local_volume_density}
+#import volfog::density::{medium_extinction, local_volume_density, local_volume_touches_sphere}
 #import volfog::esm::{esm_cascade, esm_shadow_cascade}
 #import volfog::lights::{light_touches_sphere, fog_light_inscatter, sun_inscatter, sun_inscatter_two_color, ambient_inscatter}
 
@@ -81,11 +83,15 @@ const WORKGROUP_Z: u32 = 4u;
 const WORKGROUP_Z: u32 = 8u;
 #endif
 const TILE_LIGHTS: u32 = 64u;
+const TILE_VOLUMES: u32 = 64u;
 const HALF_MAX: f32 = 65504.0;
 
 var<workgroup> tile_lights: array<u32, 64>;
 var<workgroup> tile_count: atomic<u32>;
+var<workgroup> tile_volumes: array<u32, 64>;
+var<workgroup> tile_volume_count: atomic<u32>;
 var<workgroup> tile_sphere: vec4<f32>;
+var<workgroup> tile_corners: array<vec3<f32>, 5>;
 
 fn world_of(id: vec3<u32>, offset: vec3<f32>) -> vec3<f32> {
     let view = froxel_view_position(
@@ -104,7 +110,7 @@ fn live(xy: vec2<u32>) -> u32 {
 
 // Density and in-scattered light of froxel id (rgb = sigma_s L_in, a = sigma_t),
 // with the lights gathered for the workgroup.
-fn froxel_scattering(id: vec3<u32>, tile_light_count: u32) -> vec4<f32> {
+fn froxel_scattering(id: vec3<u32>, tile_light_count: u32, tile_volume_count: u32) -> vec4<f32> {
 #ifdef VOLFOG_INJECT_JITTER
     let offset = frame.jitter;
 #else
@@ -128,9 +134,14 @@ fn froxel_scattering(id: vec3<u32>, tile_light_count: u32) -> vec4<f32> {
     let texture_factor = 1.0;
 #endif
     var sigma_t = medium_extinction(fog_medium, world, noise, texture_factor);
-    let volume_count = min(fog_medium.local_volume_count, arrayLength(&local_volumes));
+    // The gathered volumes, or every volume when more than TILE_VOLUMES touch the block
+    // (one loop, so SIMD hardware that runs both sides of a branch pays once).
+    let gathered = tile_volume_count <= TILE_VOLUMES;
+    let all_volumes = min(fog_medium.local_volume_count, arrayLength(&local_volumes));
+    let volume_count = select(all_volumes, tile_volume_count, gathered);
     for (var i = 0u; i < volume_count; i++) {
-        sigma_t += local_volume_density(local_volumes[i], world);
+        let v = select(i, tile_volumes[min(i, TILE_VOLUMES - 1u)], gathered);
+        sigma_t += local_volume_density(local_volumes[v], world);
     }
     sigma_t = max(sigma_t, 0.0);
     if sigma_t <= 0.0 {
@@ -173,20 +184,30 @@ fn inject(
 #endif
     let span = vec3<u32>(FROXEL_BLOCK_X, FROXEL_BLOCK_Y, FROXEL_BLOCK_Z);
     let first = block * span;
-    if local_index == 0u {
-        // Bounding sphere of the block (corners of its first and last froxel,
-        // whole-froxel extent so every jittered sample is inside).
+    // Bounding sphere of the block: the corners of its first and last froxel and three
+    // more corners of its far face (whole-froxel extent, so every jittered sample is
+    // inside), one corner per invocation.
+    if local_index < 5u {
         let last = min(first + span - 1u, froxels.size - 1u);
-        let c0 = world_of(first, vec3<f32>(-0.5));
-        let c1 = world_of(last, vec3<f32>(0.5));
-        let c2 = world_of(vec3<u32>(first.xy, last.z), vec3<f32>(-0.5, -0.5, 0.5));
-        let c3 = world_of(vec3<u32>(last.x, first.y, last.z), vec3<f32>(0.5, -0.5, 0.5));
-        let c4 = world_of(vec3<u32>(first.x, last.y, last.z), vec3<f32>(-0.5, 0.5, 0.5));
-        let center = 0.5 * (c0 + c1);
-        let radius = max(max(distance(center, c0), distance(center, c1)),
-                         max(distance(center, c2), max(distance(center, c3), distance(center, c4))));
+        let k = local_index;
+        let high_x = k == 1u || k == 3u;
+        let high_y = k == 1u || k == 4u;
+        let corner = vec3<u32>(select(first.x, last.x, high_x), select(first.y, last.y, high_y),
+            select(last.z, first.z, k == 0u));
+        let offset = vec3<f32>(select(-0.5, 0.5, high_x), select(-0.5, 0.5, high_y),
+            select(0.5, -0.5, k == 0u));
+        tile_corners[k] = world_of(corner, offset);
+    }
+    workgroupBarrier();
+    if local_index == 0u {
+        let center = 0.5 * (tile_corners[0] + tile_corners[1]);
+        var radius = 0.0;
+        for (var k = 0u; k < 5u; k++) {
+            radius = max(radius, distance(center, tile_corners[k]));
+        }
         tile_sphere = vec4<f32>(center, radius);
         atomicStore(&tile_count, 0u);
+        atomicStore(&tile_volume_count, 0u);
     }
     workgroupBarrier();
     let sphere = tile_sphere;
@@ -199,8 +220,19 @@ fn inject(
             }
         }
     }
+    let volume_count = min(fog_medium.local_volume_count, arrayLength(&local_volumes));
+    for (var i = local_index; i < volume_count; i += 4u * 4u * WORKGROUP_Z) {
+        if local_volume_touches_sphere(local_volumes[i], sphere.xyz, sphere.w) {
+            let slot = atomicAdd(&tile_volume_count, 1u);
+            if slot < TILE_VOLUMES {
+                tile_volumes[slot] = i;
+            }
+        }
+    }
     workgroupBarrier();
     let tile_light_count = min(atomicLoad(&tile_count), TILE_LIGHTS);
+    // Above TILE_VOLUMES every volume is evaluated.
+    let tile_volume_count = atomicLoad(&tile_volume_count);
 
 #ifdef VOLFOG_INJECT_CHECKERBOARD
     let pair = first + vec3<u32>(local.xy, 2u * local.z);
@@ -213,7 +245,7 @@ fn inject(
     if has_second && !froxel_injected(pair, frame.index, 1u) {
         id = second;
     }
-    let value = froxel_scattering(id, tile_light_count);
+    let value = froxel_scattering(id, tile_light_count, tile_volume_count);
     textureStore(scattering, pair, value);
     if has_second {
         textureStore(scattering, second, value);
@@ -223,6 +255,6 @@ fn inject(
     if any(id >= froxels.size) || id.z >= live(id.xy) {
         return;
     }
-    textureStore(scattering, id, froxel_scattering(id, tile_light_count));
+    textureStore(scattering, id, froxel_scattering(id, tile_light_count, tile_volume_count));
 #endif
 }

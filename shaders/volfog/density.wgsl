@@ -39,6 +39,18 @@ fn local_volume_density(volume: LocalVolume, world: vec3<f32>) -> f32 {
     return volume.density * local_volume_weight(local, volume.shape, volume.edge);
 }
 
+// Whether a local volume can add extinction anywhere in the world-space sphere
+// (center, radius) (m). Conservative: the sphere's image in unit shape space lies in a
+// ball of radius `radius` times the Frobenius norm of the transform's linear part, which
+// is tested against the box [-1, 1]^3 that holds either shape.
+fn local_volume_touches_sphere(volume: LocalVolume, center: vec3<f32>, radius: f32) -> bool {
+    let m = volume.local_from_world;
+    let local = (m * vec4<f32>(center, 1.0)).xyz;
+    let scale = sqrt(dot(m[0].xyz, m[0].xyz) + dot(m[1].xyz, m[1].xyz) + dot(m[2].xyz, m[2].xyz));
+    let outside = max(abs(local) - vec3<f32>(1.0), vec3<f32>(0.0));
+    return length(outside) <= radius * scale;
+}
+
 // Global extinction (1/m) at a world position, given the medium, a noise value in
 // [-1, 1] and a density-texture factor (1 without a texture); local volumes are added
 // by the caller and the sum clamped with max(0, .).

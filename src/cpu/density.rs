@@ -37,6 +37,19 @@ pub fn local_volume_density(volume: &LocalVolume, world: Vec3) -> f32 {
     volume.density * local_volume_weight(local, volume.shape, volume.edge)
 }
 
+/// Whether a local volume can add extinction anywhere in the world-space sphere
+/// (`center`, `radius`): conservative (see `volfog::density`).
+pub fn local_volume_touches_sphere(volume: &LocalVolume, center: Vec3, radius: f32) -> bool {
+    let m = volume.local_from_world;
+    let local = m.transform_point3(center);
+    let scale = (m.x_axis.truncate().length_squared()
+        + m.y_axis.truncate().length_squared()
+        + m.z_axis.truncate().length_squared())
+    .sqrt();
+    let outside = (local.abs() - Vec3::ONE).max(Vec3::ZERO);
+    outside.length() <= radius * scale
+}
+
 /// Global extinction at a world position for a noise value and texture factor.
 pub fn medium_extinction(medium: &FogMedium, world: Vec3, noise: f32, texture_factor: f32) -> f32 {
     let h = world.dot(medium.up);

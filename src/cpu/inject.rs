@@ -1,6 +1,6 @@
 //! Mirror of the inject pass: the scattering of one froxel, composed from the module
-//! mirrors exactly as the pass composes the WGSL functions (light culling aside,
-//! which only skips lights whose range cannot reach the froxel).
+//! mirrors exactly as the pass composes the WGSL functions (light and local volume
+//! culling aside, which only skip lights and volumes that cannot reach the froxel).
 
 use glam::{UVec3, Vec3, Vec4};
 
