@@ -4,7 +4,7 @@
 //! Every pass is composed and validated for each combination of its define axes when
 //! the library builds; names follow `pass@default` or `pass@A+B` (the defines without
 //! their `VOLFOG_` prefix, sorted). Translations to WGSL, SPIR-V, GLSL, HLSL and MSL
-//! come from [`volfog_codegen::translate`] (feature `translate`).
+//! come from `volfog_codegen::translate` (the codegen crate's feature `translate`).
 //!
 //! ```
 //! let module = volfog::shaders::compose("scan", &[]).unwrap();
