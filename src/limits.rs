@@ -205,6 +205,10 @@ pub const FOG_SUN_G: Range<f32> = Range::new(-0.999, 0.999, "");
 /// Largest entry of the linear part of a fog volume's world -> local matrix (volumes
 /// smaller than about a micrometre are rejected).
 pub const MAX_FOG_VOLUME_LOCAL_SCALE: f32 = 1.0e6;
+/// Single-scattering albedo of water, per channel.
+pub const WATER_ALBEDO: Range<f32> = Range::new(0.0, 1.0, "per channel");
+/// Shore fade distance of a water surface.
+pub const WATER_SHORE_FADE: Range<f32> = Range::new(0.0, 1.0e9, "m");
 /// Extinction inside a fog hull (1/m).
 pub const HULL_DENSITY: Range<f32> = Range::new(0.0, 1.0e3, "1/m");
 /// Reference distance of a fog hull (m).

@@ -241,6 +241,7 @@ pub const MODULES: &[ModuleSource] = &[
     module!("lights"),
     module!("esm"),
     module!("fog_volume"),
+    module!("water"),
     module!("lightning"),
     module!("soft_particles"),
 ];
@@ -278,14 +279,17 @@ pub const PASSES: &[PassSource] = &[
     ),
     pass!(
         "apply",
-        axes: &[Axis::Flag("VOLFOG_BINDINGS_NO_SAMPLER")],
+        axes: &[Axis::Flag("VOLFOG_BINDINGS_NO_SAMPLER"), Axis::Flag("VOLFOG_APPLY_RESOLVED")],
         values: &[],
         usage: "Draw 3 vertices with fullscreen_vs (pass fullscreen), no vertex buffers, onto \
                 the lit colour target (load, no depth attachment). Blend colour: src * One + \
                 dst * SrcAlpha (add); alpha: src * Zero + dst * One (add). Group 0 is the fog \
                 group; its sampler (binding 2, absent in BINDINGS_NO_SAMPLER) is linear with \
                 clamp-to-edge addressing. Group 1 binding 0 is the scene depth buffer, bound \
-                as unfilterable float.",
+                as unfilterable float; under VOLFOG_APPLY_RESOLVED it is the resolved \
+                two-channel MSAA fog layout (rg16float: r the fog amount 1 - T, g the view \
+                depth in m, averaged by the resolve of a multisampled target the depth \
+                pre-pass wrote with fog_layout), bound as unfilterable float.",
         render: FULLSCREEN_COMPOSITE
     ),
     pass!(

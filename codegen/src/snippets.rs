@@ -31,12 +31,13 @@ use crate::reflect::{StructLayout, struct_layouts};
 use crate::{CodegenError, Target, names};
 
 /// The modules exported as snippets.
-pub const SNIPPET_MODULES: [&str; 6] = [
+pub const SNIPPET_MODULES: [&str; 7] = [
     "apply",
     "height_fog",
     "fog_volume",
     "lightning",
     "soft_particles",
+    "water",
     "phase",
 ];
 

@@ -12,11 +12,14 @@
 //     tail in view space)
 //   group 1, binding 0: texture_2d<f32>, unfilterable: the scene depth buffer (a depth
 //     texture bound as unfilterable float, as WebGPU allows; read with textureLoad),
-//     same size as the colour target
+//     same size as the colour target; under VOLFOG_APPLY_RESOLVED the resolved MSAA
+//     fog layout instead (volfog::apply::fog_layout: r fog amount, g view depth in m).
 // Defines: VOLFOG_BINDINGS_NO_SAMPLER — manual trilinear filtering, no sampler binding.
+//          VOLFOG_APPLY_RESOLVED — a multisampled scene (Wenzel 2007): the fog colour
+//          at the resolved view depth, the fog amount averaged over the samples.
 
 #import volfog::bindings
-#import volfog::apply::{fog_coord, fog_sample, fog_load, fog_tail, fog_with_tail}
+#import volfog::apply::{fog_coord, fog_sample, fog_load, fog_tail, fog_with_tail, fog_view_from_depth, fog_resolved}
 #import volfog::froxel::{ndc_from_uv, view_from_ndc}
 
 @group(1) @binding(0) var scene_depth: texture_2d<f32>;
@@ -24,15 +27,25 @@
 @fragment
 fn apply_fs(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
     let size = vec2<f32>(textureDimensions(scene_depth));
-    let depth = textureLoad(scene_depth, vec2<i32>(frag.xy), 0).r;
     let uv = frag.xy / size;
     let froxels = bindings::fog_froxels;
+#ifdef VOLFOG_APPLY_RESOLVED
+    let resolved = textureLoad(scene_depth, vec2<i32>(frag.xy), 0);
+    let view = fog_view_from_depth(uv, resolved.g, froxels.view_from_clip);
+#else
+    let depth = textureLoad(scene_depth, vec2<i32>(frag.xy), 0).r;
     let view = view_from_ndc(vec3<f32>(ndc_from_uv(uv), depth), froxels.view_from_clip);
+#endif
     let coord = fog_coord(uv, abs(view.z), froxels);
 #ifdef VOLFOG_BINDINGS_NO_SAMPLER
     let fog = fog_load(bindings::fog_integrated, coord);
 #else
     let fog = fog_sample(bindings::fog_integrated, bindings::fog_sampler, coord);
 #endif
-    return fog_with_tail(fog, fog_tail(froxels, bindings::fog_far_tail, view));
+    let total = fog_with_tail(fog, fog_tail(froxels, bindings::fog_far_tail, view));
+#ifdef VOLFOG_APPLY_RESOLVED
+    return fog_resolved(total, resolved.r);
+#else
+    return total;
+#endif
 }

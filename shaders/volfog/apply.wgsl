@@ -19,12 +19,20 @@
 //           fog from the far plane to the shaded point, so distant geometry has no
 //           hard fog edge. At the far plane the tail is empty, so the result is
 //           continuous there.
+// MSAA:     a resolved depth buffer averages the depths of a silhouette's samples, and
+//           fog looked up at that average draws an outline around objects. Following
+//           Wenzel 2007 ("Scene depth based rendering and MSAA: Fog"), the pass that
+//           lays out depth also writes each sample's fog amount, fog_layout = vec2(1 - T,
+//           view depth), into a two-channel multisampled target (rg16float) whose
+//           resolve averages both; the fullscreen pass then takes the fog's colour at
+//           the resolved depth and the amount from the resolve (fog_resolved). The fog
+//           colour changes slowly across a silhouette, the amount does not.
 // Reference: Wronski 2014, "Applying effect": color * transmittance + in-scattering;
 //           Wenzel 2007, eq. 2, for the tail.
 #define_import_path volfog::apply
 
 #import volfog::types::{Froxels, HeightFog}
-#import volfog::froxel::{slice_coord, uv_from_ndc, view_from_ndc}
+#import volfog::froxel::{ndc_from_uv, slice_coord, uv_from_ndc, view_from_ndc}
 #import volfog::height_fog::height_fog
 
 // Fog coordinate of the point at screen uv (v down) and view depth depth (m).
@@ -53,6 +61,15 @@ fn fog_view_position(world_pos: vec3<f32>, view_from_world: mat4x4<f32>) -> vec3
 // Fog coordinate of a world-space position (m).
 fn fog_coord_from_world(world_pos: vec3<f32>, view_from_world: mat4x4<f32>, froxels: Froxels) -> vec4<f32> {
     return fog_coord_from_view(fog_view_position(world_pos, view_from_world), froxels);
+}
+
+// View-space position (m) of the point at screen uv (v down) and view depth depth (m),
+// for a perspective projection with inverse view_from_clip.
+fn fog_view_from_depth(uv: vec2<f32>, depth: f32, view_from_clip: mat4x4<f32>) -> vec3<f32> {
+    // Any depth strictly inside the clip volume lies on the ray; 0.5 stays finite for
+    // standard, reversed and infinite projections.
+    let p = view_from_ndc(vec3<f32>(ndc_from_uv(uv), 0.5), view_from_clip);
+    return p * (depth / max(abs(p.z), 1e-30));
 }
 
 // Fog coordinate of a point in normalised device coordinates: x, y in [-1, 1] (y up)
@@ -111,4 +128,25 @@ fn fog_with_tail(fog: vec4<f32>, tail: vec4<f32>) -> vec4<f32> {
 // A lit colour seen through fog: color * transmittance + in-scattering.
 fn apply_fog(color: vec3<f32>, fog: vec4<f32>) -> vec3<f32> {
     return color * fog.a + fog.rgb;
+}
+
+// Below this fog amount (1 - T) at the resolved depth, fog_resolved keeps the colour
+// of this amount (the in-scatter of thinner fog is mostly rounding).
+const FOG_RESOLVED_MIN_AMOUNT: f32 = 1e-4;
+
+// The layout of one sample for the MSAA path: vec2(fog amount 1 - T of the sample's
+// fog, its view depth in m). Write it to a two-channel multisampled target while
+// laying out depth and let the resolve average it.
+fn fog_layout(fog: vec4<f32>, view_depth: f32) -> vec2<f32> {
+    return vec2<f32>(1.0 - fog.a, view_depth);
+}
+
+// Fog of a pixel from its resolved layout: fog is the fog at the resolved view depth,
+// amount the resolved fog amount. The colour (in-scatter per unit amount) comes from
+// fog, the amount from the resolve: vec4(fog.rgb * amount / (1 - fog.a), 1 - amount).
+// Where no silhouette crosses the pixel this is fog itself.
+fn fog_resolved(fog: vec4<f32>, amount: f32) -> vec4<f32> {
+    let a = clamp(amount, 0.0, 1.0);
+    let scale = a / max(1.0 - fog.a, FOG_RESOLVED_MIN_AMOUNT);
+    return vec4<f32>(fog.rgb * scale, 1.0 - a);
 }

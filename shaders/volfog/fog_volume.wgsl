@@ -1,4 +1,5 @@
-// volfog::fog_volume — analytic box and ellipsoid fog volumes, ray traced per pixel.
+// volfog::fog_volume — analytic box, ellipsoid and plane fog volumes, ray traced per
+// pixel.
 //
 // Use:      #import volfog::fog_volume::{fog_volume, fog_over, FOG_NONE}
 //           var fog = FOG_NONE;
@@ -7,7 +8,9 @@
 // Defines:  none
 // Method:   the view segment from the camera (t = 0) to the shaded point (t = 1, the
 //           scene depth) is transformed into the volume's local space, where the volume
-//           is the unit box [-1, 1]^3 or the unit sphere, and intersected there. For an
+//           is the unit box [-1, 1]^3, the unit sphere or the half-space y <= 0 (a plane
+//           volume: fog below a plane, Wenzel's special type for rivers and water
+//           areas, with the camera above or below it), and intersected there. For an
 //           affine transform the ray parameters are the same in both spaces, so the
 //           clipped segment [t0, t1] is taken back to world space exactly. Start: the
 //           camera when it is inside, else the entry point; end: the exit point or the
@@ -29,6 +32,7 @@
 // Shape codes of FogVolume.shape.
 const FOG_VOLUME_BOX: u32 = 0u;
 const FOG_VOLUME_ELLIPSOID: u32 = 1u;
+const FOG_VOLUME_PLANE: u32 = 2u;
 // No fog: no in-scattering, full transmittance (the start of back-to-front compositing).
 const FOG_NONE: vec4<f32> = vec4<f32>(0.0, 0.0, 0.0, 1.0);
 // Direction components below this magnitude are treated as this value (slab test).
@@ -70,6 +74,18 @@ fn ray_unit_sphere(ro: vec3<f32>, rd: vec3<f32>) -> vec2<f32> {
     return select(vec2<f32>(1.0, 0.0), hit, h2 >= 0.0 && s > 1e-30);
 }
 
+// Line parameters (t_near, t_far) where ro + t rd lies in the half-space y <= 0
+// (unbounded ends are +-1e30); t_near > t_far when the line misses it. A line in the
+// plane y = 0 lies inside.
+fn ray_half_space(ro: vec3<f32>, rd: vec3<f32>) -> vec2<f32> {
+    let far = 1e30;
+    if abs(rd.y) < FOG_VOLUME_MIN_DIRECTION {
+        return select(vec2<f32>(1.0, 0.0), vec2<f32>(-far, far), ro.y <= 0.0);
+    }
+    let t = -ro.y / rd.y;
+    return select(vec2<f32>(t, far), vec2<f32>(-far, t), rd.y > 0.0);
+}
+
 // Ray parameters [t0, t1] within [0, 1] of the part of the segment from camera_pos
 // (t = 0) to point (t = 1) inside the volume (world space, m); t0 == t1 when the
 // segment misses it. t0 = 0 when the camera is inside, t1 = 1 when the point is.
@@ -82,6 +98,8 @@ fn fog_volume_entry_exit(volume: FogVolume, camera_pos: vec3<f32>, point: vec3<f
     var t: vec2<f32>;
     if volume.shape == FOG_VOLUME_ELLIPSOID {
         t = ray_unit_sphere(ro, rd);
+    } else if volume.shape == FOG_VOLUME_PLANE {
+        t = ray_half_space(ro, rd);
     } else {
         t = ray_unit_box(ro, rd);
     }

@@ -105,10 +105,29 @@ fn fog_inscatter(radiance: vec3<f32>, od_in: f32) -> vec4<f32> {
 // (fog.color + fog.sun_color * HG(dot(view_dir, fog.sun_direction), fog.sun_g)) * (1 - T),
 // a the transmittance T. view_dir is the direction of segment (eye to shaded point).
 fn height_fog(fog: HeightFog, origin: vec3<f32>, segment: vec3<f32>) -> vec4<f32> {
+    return height_fog_from_vertex(height_fog_vertex(fog, origin, segment));
+}
+
+// The fog of height_fog before its exponential: vec4(in-scattered radiance rgb of the
+// fog seen along segment, optical depth a). Wenzel 2007 ("Fog and Alpha-Transparent
+// Objects") approximates the global fog per vertex for transparent objects; call this
+// in the vertex stage with origin the camera and segment the vertex minus the camera,
+// interpolate the result (perspective-correct) and finish each fragment with
+// height_fog_from_vertex. Pure arithmetic, no texture: for vertex stages, older
+// hardware or passes where per-pixel fog costs too much. The interpolated optical
+// depth is exact for uniform fog along straight view rays and otherwise errs by the
+// curvature of the optical depth across the triangle.
+fn height_fog_vertex(fog: HeightFog, origin: vec3<f32>, segment: vec3<f32>) -> vec4<f32> {
     let od = height_fog_optical_depth(fog.density, fog.falloff, fog.base_height, fog.up, origin, segment);
     let d = clamp(segment, vec3<f32>(-FOG_POSITION_LIMIT), vec3<f32>(FOG_POSITION_LIMIT));
     let view_dir = d / max(length(d), 1e-30);
     let cos_theta = clamp(dot(view_dir, fog.sun_direction), -1.0, 1.0);
     let lobe = phase_hg(cos_theta, clamp(fog.sun_g, -0.999, 0.999));
-    return fog_inscatter(fog.color + fog.sun_color * lobe, od);
+    return vec4<f32>(fog.color + fog.sun_color * lobe, od);
+}
+
+// Fog (rgb in-scatter, a transmittance) from the interpolated output of
+// height_fog_vertex.
+fn height_fog_from_vertex(vertex_fog: vec4<f32>) -> vec4<f32> {
+    return fog_inscatter(vertex_fog.rgb, vertex_fog.a);
 }

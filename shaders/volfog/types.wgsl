@@ -198,7 +198,8 @@ struct HeightFog {
 }
 
 // An analytic fog volume (Wenzel 2007, "Fog Volumes"; volfog::fog_volume): the unit box
-// [-1, 1]^3 (shape 0) or the unit sphere (shape 1) in local space, ray traced per pixel
+// [-1, 1]^3 (shape 0), the unit sphere (shape 1) or the half-space y <= 0 below a plane
+// (shape 2) in local space, ray traced per pixel
 // and filled with exponential-gradient fog
 // f(p) = density * exp(-falloff * (dot(p - center, gradient) - offset)), lit by a
 // constant radiance.
@@ -217,8 +218,31 @@ struct FogVolume {
     center: vec3<f32>,
     // Offset (m) of the reference plane from center along gradient.
     offset: f32,
-    // 0 box, 1 ellipsoid (any other value is treated as a box).
+    // 0 box, 1 ellipsoid, 2 plane (any other value is treated as a box).
     shape: u32,
+}
+
+// Water below a plane (Wenzel 2007, "River shading", "Ocean shading"; volfog::water):
+// uniform extinction, light falling in straight down and fading with depth.
+struct Water {
+    // Unit normal of the surface, pointing out of the water.
+    normal: vec3<f32>,
+    // The surface is the plane dot(p, normal) = height (m), |height| <= 1e9; the water
+    // is below it.
+    height: f32,
+    // Radiance just below the surface of the light falling in (linear rgb), [0, 1e9].
+    light: vec3<f32>,
+    // Extinction of the water along the view ray, 1/m, [0, 1e3].
+    extinction: f32,
+    // Single-scattering albedo per channel, [0, 1].
+    albedo: vec3<f32>,
+    // HG mean cosine of the scattering of the light falling in, [-0.999, 0.999].
+    g: f32,
+    // Attenuation of the light with depth per channel, 1/m, [0, 1e3]: 0 gives the
+    // uniform river model, > 0 the ocean model.
+    attenuation: vec3<f32>,
+    // View depth (m) over which the surface fades in at the shore, [0, 1e9].
+    shore_fade: f32,
 }
 
 // A fog hull (Boyd 2001): a closed mesh filled with homogeneous fog, drawn by the

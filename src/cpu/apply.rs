@@ -3,7 +3,7 @@
 
 use glam::{Mat4, Vec2, Vec3, Vec4};
 
-use super::froxel::{slice_coord, uv_from_ndc, view_from_ndc};
+use super::froxel::{ndc_from_uv, slice_coord, uv_from_ndc, view_from_ndc};
 use crate::uniforms::{Froxels, HeightFog};
 
 /// Fog coordinate (xyz texture coordinate, w weight) of screen uv and view depth.
@@ -112,4 +112,36 @@ pub fn fog_with_tail(fog: Vec4, tail: Vec4) -> Vec4 {
 /// A lit colour seen through fog: `color * T + L`.
 pub fn apply_fog(color: Vec3, fog: Vec4) -> Vec3 {
     color * fog.w + fog.truncate()
+}
+
+/// View-space position (m) of the point at screen `uv` and view depth `depth` (m).
+pub fn fog_view_from_depth(uv: Vec2, depth: f32, view_from_clip: Mat4) -> Vec3 {
+    let p = view_from_ndc(ndc_from_uv(uv).extend(0.5), view_from_clip);
+    p * (depth / p.z.abs().max(1e-30))
+}
+
+/// Below this fog amount at the resolved depth, [`fog_resolved`] keeps its colour.
+pub const FOG_RESOLVED_MIN_AMOUNT: f32 = 1e-4;
+
+/// The MSAA layout of one sample: `(1 - T, view depth)` (Wenzel 2007, "Scene depth
+/// based rendering and MSAA: Fog").
+pub fn fog_layout(fog: Vec4, view_depth: f32) -> Vec2 {
+    Vec2::new(1.0 - fog.w, view_depth)
+}
+
+/// Fog of a pixel from its resolved layout: the colour of `fog` (the fog at the
+/// resolved depth), the resolved `amount`.
+///
+/// ```
+/// use glam::Vec4;
+/// use volfog::cpu::apply::fog_resolved;
+///
+/// let fog = Vec4::new(0.3, 0.3, 0.3, 0.4); // fog colour 0.5, amount 0.6
+/// assert!((fog_resolved(fog, 0.6) - fog).abs().max_element() < 1e-6);
+/// assert!((fog_resolved(fog, 0.2) - Vec4::new(0.1, 0.1, 0.1, 0.8)).abs().max_element() < 1e-6);
+/// ```
+pub fn fog_resolved(fog: Vec4, amount: f32) -> Vec4 {
+    let a = amount.clamp(0.0, 1.0);
+    let scale = a / (1.0 - fog.w).max(FOG_RESOLVED_MIN_AMOUNT);
+    (fog.truncate() * scale).extend(1.0 - a)
 }

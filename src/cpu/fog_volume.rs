@@ -1,4 +1,4 @@
-//! Mirror of `volfog::fog_volume`: analytic box and ellipsoid fog volumes (Wenzel
+//! Mirror of `volfog::fog_volume`: analytic box, ellipsoid and plane fog volumes (Wenzel
 //! 2007, "Fog Volumes"), ray traced in local space and integrated in closed form.
 //!
 //! ```
@@ -37,6 +37,8 @@ use crate::uniforms::FogVolume;
 pub const FOG_VOLUME_BOX: u32 = 0;
 /// Shape code of an ellipsoid (`FogVolume.shape`).
 pub const FOG_VOLUME_ELLIPSOID: u32 = 1;
+/// Shape code of a plane volume, fog below a plane (`FogVolume.shape`).
+pub const FOG_VOLUME_PLANE: u32 = 2;
 /// No fog: no in-scattering, transmittance 1.
 pub const FOG_NONE: Vec4 = Vec4::new(0.0, 0.0, 0.0, 1.0);
 /// Direction components below this magnitude are replaced by it in the slab test.
@@ -77,6 +79,26 @@ pub fn ray_unit_sphere(ro: Vec3, rd: Vec3) -> Vec2 {
     }
 }
 
+/// Line parameters `(t_near, t_far)` of `ro + t rd` in the half-space `y <= 0`
+/// (unbounded ends are +-1e30); `t_near > t_far` on a miss. A line in the plane `y = 0`
+/// lies inside.
+pub fn ray_half_space(ro: Vec3, rd: Vec3) -> Vec2 {
+    let far = 1e30;
+    if rd.y.abs() < FOG_VOLUME_MIN_DIRECTION {
+        return if ro.y <= 0.0 {
+            Vec2::new(-far, far)
+        } else {
+            Vec2::new(1.0, 0.0)
+        };
+    }
+    let t = -ro.y / rd.y;
+    if rd.y > 0.0 {
+        Vec2::new(-far, t)
+    } else {
+        Vec2::new(t, far)
+    }
+}
+
 fn clamped_segment(camera_pos: Vec3, point: Vec3) -> (Vec3, Vec3) {
     let lim = Vec3::splat(FOG_POSITION_LIMIT);
     let eye = camera_pos.clamp(-lim, lim);
@@ -92,6 +114,8 @@ pub fn fog_volume_entry_exit(volume: &FogVolume, camera_pos: Vec3, point: Vec3) 
     let rd = (volume.local_from_world * seg.extend(0.0)).truncate();
     let t = if volume.shape == FOG_VOLUME_ELLIPSOID {
         ray_unit_sphere(ro, rd)
+    } else if volume.shape == FOG_VOLUME_PLANE {
+        ray_half_space(ro, rd)
     } else {
         ray_unit_box(ro, rd)
     };
@@ -138,6 +162,23 @@ pub fn fog_volumes(volumes: &[FogVolume], camera_pos: Vec3, point: Vec3) -> Vec4
         db.total_cmp(&da)
     });
     order.into_iter().fold(FOG_NONE, |acc, v| {
+        fog_over(fog_volume(v, camera_pos, point), acc)
+    })
+}
+
+/// Fog of several volumes between `camera_pos` and `point`, composited back to front
+/// in the order the segment enters them (the volume entered last first): exact for
+/// volumes that do not overlap along the segment, whatever their sizes (a plane volume
+/// has no meaningful centre). Volumes the segment misses are skipped.
+pub fn fog_volumes_along(volumes: &[FogVolume], camera_pos: Vec3, point: Vec3) -> Vec4 {
+    let mut hits: Vec<(f32, &FogVolume)> = volumes
+        .iter()
+        .map(|v| (fog_volume_entry_exit(v, camera_pos, point), v))
+        .filter(|(t, _)| t.y > t.x)
+        .map(|(t, v)| (t.x, v))
+        .collect();
+    hits.sort_by(|a, b| b.0.total_cmp(&a.0));
+    hits.into_iter().fold(FOG_NONE, |acc, (_, v)| {
         fog_over(fog_volume(v, camera_pos, point), acc)
     })
 }

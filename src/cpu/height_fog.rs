@@ -113,6 +113,27 @@ pub fn fog_inscatter(radiance: Vec3, od_in: f32) -> Vec4 {
 /// Height fog along the segment from `origin` to `origin + segment` (world space, m):
 /// rgb the in-scattered radiance, w the transmittance, as `volfog::apply` expects.
 pub fn height_fog(fog: &HeightFog, origin: Vec3, segment: Vec3) -> Vec4 {
+    height_fog_from_vertex(height_fog_vertex(fog, origin, segment))
+}
+
+/// The fog of [`height_fog`] before its exponential, for per-vertex fog (Wenzel 2007,
+/// "Fog and Alpha-Transparent Objects"): `(in-scattered radiance rgb, optical depth)`.
+/// Interpolate it across a primitive and finish with [`height_fog_from_vertex`].
+///
+/// ```
+/// use glam::Vec3;
+/// use volfog::cpu::height_fog::{height_fog, height_fog_from_vertex, height_fog_vertex};
+/// use volfog::uniforms::HeightFog;
+///
+/// let fog = HeightFog::new(Vec3::splat(0.5), 0.02, Vec3::Y, 0.1, 0.0).unwrap();
+/// let eye = Vec3::new(0.0, 2.0, 0.0);
+/// let (a, b) = (Vec3::new(-10.0, 0.0, -40.0), Vec3::new(10.0, 0.0, -40.0));
+/// // Halfway between two vertices: the interpolated vertex fog against per-pixel fog.
+/// let mid = (height_fog_vertex(&fog, eye, a - eye) + height_fog_vertex(&fog, eye, b - eye)) / 2.0;
+/// let per_pixel = height_fog(&fog, eye, (a + b) / 2.0 - eye);
+/// assert!((height_fog_from_vertex(mid) - per_pixel).abs().max_element() < 0.01);
+/// ```
+pub fn height_fog_vertex(fog: &HeightFog, origin: Vec3, segment: Vec3) -> Vec4 {
     let od = height_fog_optical_depth(
         fog.density,
         fog.falloff,
@@ -128,5 +149,10 @@ pub fn height_fog(fog: &HeightFog, origin: Vec3, segment: Vec3) -> Vec4 {
     let view_dir = d / d.length().max(1e-30);
     let cos_theta = view_dir.dot(fog.sun_direction).clamp(-1.0, 1.0);
     let lobe = phase_hg(cos_theta, fog.sun_g.clamp(-0.999, 0.999));
-    fog_inscatter(fog.color + fog.sun_color * lobe, od)
+    (fog.color + fog.sun_color * lobe).extend(od)
+}
+
+/// Fog `(in-scatter rgb, T)` from an interpolated [`height_fog_vertex`] value.
+pub fn height_fog_from_vertex(vertex_fog: Vec4) -> Vec4 {
+    fog_inscatter(vertex_fog.truncate(), vertex_fog.w)
 }

@@ -20,3 +20,4 @@ pub mod phase;
 pub mod scan;
 pub mod soft_particles;
 pub mod temporal;
+pub mod water;

@@ -27,7 +27,7 @@ pub struct FogVolume {
     pub center: Vec3,
     /// Offset (m) of the reference plane from `center` along `gradient`.
     pub offset: f32,
-    /// 0 box, 1 ellipsoid ([`VolumeShape`]).
+    /// 0 box, 1 ellipsoid ([`VolumeShape`]), 2 plane ([`FogVolume::plane`]).
     pub shape: u32,
 }
 
@@ -78,6 +78,39 @@ impl FogVolume {
             center,
             offset: 0.0,
             shape: shape as u32,
+        })
+    }
+
+    /// A plane volume: fog below the plane through `point` with unit `normal` (pointing
+    /// out of the fog), unbounded along the plane and downwards (Wenzel 2007's fog
+    /// volume type for rivers and water areas). The camera may be above or below it.
+    ///
+    /// ```
+    /// use glam::Vec3;
+    /// use volfog::cpu::fog_volume::fog_volume;
+    /// use volfog::uniforms::FogVolume;
+    ///
+    /// let river = FogVolume::plane(Vec3::ZERO, Vec3::Y, Vec3::new(0.1, 0.3, 0.3), 0.5).unwrap();
+    /// // From 1 m above the surface straight down to the bed 2 m below it: 2 m of fog.
+    /// let fog = fog_volume(&river, Vec3::Y, Vec3::new(0.0, -2.0, 0.0));
+    /// assert!((fog.w - (-1.0f32).exp()).abs() < 1e-6);
+    /// ```
+    pub fn plane(point: Vec3, normal: Vec3, color: Vec3, density: f32) -> Result<Self, InvalidValue> {
+        check_unit("FogVolume.normal", normal)?;
+        check(
+            point.is_finite() && point.abs().max_element() <= limits::FOG_POSITION_LIMIT,
+            "FogVolume.center",
+            point,
+            "a position within +-1e9 m",
+        )?;
+        let normal = normal.normalize();
+        // Local +Y is the normal; the other two axes complete a right-handed frame.
+        let rotation = glam::Quat::from_rotation_arc(Vec3::Y, normal);
+        let world_from_local = Mat4::from_rotation_translation(rotation, point);
+        let volume = Self::new(world_from_local, VolumeShape::Box, color, density)?;
+        Ok(Self {
+            shape: crate::cpu::fog_volume::FOG_VOLUME_PLANE,
+            ..volume
         })
     }
 

@@ -31,6 +31,7 @@ mod hull;
 mod lighting;
 mod medium;
 mod shadow;
+mod water;
 
 pub use bytes::{to_storage_bytes, to_uniform_bytes};
 pub use fog_volume::FogVolume;
@@ -41,6 +42,7 @@ pub use hull::FogHull;
 pub use lighting::{DirectionalLight, FogLight, FogLighting};
 pub use medium::{FogMedium, LocalVolume, VolumeShape};
 pub use shadow::ShadowCascades;
+pub use water::Water;
 
 use glam::Vec3;
 

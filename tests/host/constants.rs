@@ -138,6 +138,20 @@ fn module_constants_match_their_rust_twins() {
                     "FOG_VOLUME_MIN_DIRECTION",
                     cpu::fog_volume::FOG_VOLUME_MIN_DIRECTION as f64,
                 ),
+                ("FOG_VOLUME_PLANE", cpu::fog_volume::FOG_VOLUME_PLANE as f64),
+            ],
+        ),
+        (
+            "volfog::apply",
+            &[(
+                "FOG_RESOLVED_MIN_AMOUNT",
+                cpu::apply::FOG_RESOLVED_MIN_AMOUNT as f64,
+            )],
+        ),
+        (
+            "volfog::water",
+            &[
+                ("WATER_MIN_SHORE_FADE", cpu::water::WATER_MIN_SHORE_FADE as f64),
             ],
         ),
         (
