@@ -54,6 +54,34 @@ impl Filtering {
     }
 }
 
+/// What the fullscreen apply pass reads at group 1, binding 0.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum ApplyInput {
+    /// The scene depth buffer (a depth-aspect view, read as unfilterable float).
+    #[default]
+    Depth,
+    /// The resolved MSAA fog layout ([`FOG_LAYOUT_FORMAT`]: r the fog amount `1 - T`,
+    /// g the view depth in m) that a multisampled depth pre-pass wrote with
+    /// `volfog::apply::fog_layout` and resolved: the fog's colour at the resolved
+    /// depth, its amount averaged over the samples (Wenzel 2007, "Scene depth based
+    /// rendering and MSAA: Fog"), so silhouettes get no outline.
+    ResolvedLayout,
+}
+
+/// The format of the MSAA fog layout target: two half floats (fog amount, view depth
+/// in m; half floats keep 11 bits, 0.05 % of the depth), resolvable everywhere.
+pub const FOG_LAYOUT_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rg16Float;
+
+impl ApplyInput {
+    /// The shader defines of the apply pass variant.
+    pub fn defines(self) -> Vec<String> {
+        match self {
+            ApplyInput::Depth => Vec::new(),
+            ApplyInput::ResolvedLayout => vec!["VOLFOG_APPLY_RESOLVED".to_string()],
+        }
+    }
+}
+
 /// The define of depth culling (`VOLFOG_FROXEL_CULL`) for the inject, temporal and scan
 /// variants: none when `cull` is false.
 pub fn cull_defines(cull: bool) -> Vec<String> {

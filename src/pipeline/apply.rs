@@ -6,7 +6,7 @@ use super::{
     RenderPipelineDesc, bind_group, bind_group_layout, render_pipeline, shader_module,
     texture_entry, uniform_entry,
 };
-use crate::options::Filtering;
+use crate::options::{ApplyInput, Filtering};
 use crate::shaders::CodegenError;
 
 /// The layout entries of the fog group (`volfog::bindings`): 0 `Froxels` uniform,
@@ -113,6 +113,7 @@ pub fn depth_layout_entries() -> [wgpu::BindGroupLayoutEntry; 1] {
 #[derive(Debug)]
 pub struct ApplyPipeline {
     filtering: Filtering,
+    input: ApplyInput,
     format: wgpu::TextureFormat,
     depth_layout: wgpu::BindGroupLayout,
     pipeline: wgpu::RenderPipeline,
@@ -127,8 +128,22 @@ impl ApplyPipeline {
         filtering: Filtering,
         format: wgpu::TextureFormat,
     ) -> Result<Self, CodegenError> {
+        Self::with_input(device, fog_layout, filtering, format, ApplyInput::Depth)
+    }
+
+    /// As [`ApplyPipeline::new`], reading `input` at group 1 (the scene depth, or the
+    /// resolved MSAA fog layout).
+    pub fn with_input(
+        device: &wgpu::Device,
+        fog_layout: &wgpu::BindGroupLayout,
+        filtering: Filtering,
+        format: wgpu::TextureFormat,
+        input: ApplyInput,
+    ) -> Result<Self, CodegenError> {
         let vs = shader_module(device, "fullscreen", &[])?;
-        let fs = shader_module(device, "apply", &filtering.defines())?;
+        let mut defines = filtering.defines();
+        defines.extend(input.defines());
+        let fs = shader_module(device, "apply", &defines)?;
         let depth_layout = bind_group_layout(device, "volfog apply depth", &depth_layout_entries());
         let pipeline = render_pipeline(
             device,
@@ -148,6 +163,7 @@ impl ApplyPipeline {
         );
         Ok(Self {
             filtering,
+            input,
             format,
             depth_layout,
             pipeline,
@@ -157,6 +173,11 @@ impl ApplyPipeline {
     /// The filtering of the fog groups this pipeline reads.
     pub fn filtering(&self) -> Filtering {
         self.filtering
+    }
+
+    /// What the pass reads at group 1.
+    pub fn input(&self) -> ApplyInput {
+        self.input
     }
 
     /// The colour target format.
@@ -170,7 +191,8 @@ impl ApplyPipeline {
     }
 
     /// Group 1 for a scene depth view (a depth-aspect view of the depth texture, the
-    /// size of the colour target); build it once per depth texture.
+    /// size of the colour target), or with [`ApplyInput::ResolvedLayout`] a view of the
+    /// resolved fog layout; build it once per texture.
     pub fn depth_bind_group(
         &self,
         device: &wgpu::Device,

@@ -21,6 +21,7 @@ mod properties;
 mod scan;
 mod soft_particles;
 mod temporal;
+mod water;
 
 /// What the test modules share: the device, kernels, inputs and the small scene.
 mod common {

@@ -745,6 +745,25 @@ impl VolumetricFog {
         )?)
     }
 
+    /// The fullscreen apply pass for a multisampled scene: it reads the resolved MSAA
+    /// fog layout ([`crate::options::FOG_LAYOUT_FORMAT`]) instead of the depth buffer.
+    /// Lay out each sample with `volfog::apply::fog_layout` (the fog of the sample,
+    /// from the fog group) into a multisampled target of that format, resolve it, and
+    /// bind the resolved view with [`ApplyPipeline::depth_bind_group`].
+    pub fn create_apply_resolved(
+        &self,
+        device: &wgpu::Device,
+        format: wgpu::TextureFormat,
+    ) -> Result<ApplyPipeline, FogError> {
+        Ok(ApplyPipeline::with_input(
+            device,
+            &self.fog_layout,
+            self.config.apply_filtering,
+            format,
+            crate::options::ApplyInput::ResolvedLayout,
+        )?)
+    }
+
     fn check_apply(&self, apply: &ApplyPipeline) -> Result<(), FogError> {
         if apply.filtering() != self.config.apply_filtering {
             return Err(FogError::ApplyMismatch {
