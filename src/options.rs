@@ -60,16 +60,16 @@ pub enum ApplyInput {
     /// The scene depth buffer (a depth-aspect view, read as unfilterable float).
     #[default]
     Depth,
-    /// The resolved MSAA fog layout ([`FOG_LAYOUT_FORMAT`]: r the fog amount `1 - T`,
-    /// g the view depth in m) that a multisampled depth pre-pass wrote with
+    /// The resolved MSAA fog layout ([`FOG_LAYOUT_FORMAT`]: r the view depth in m, g the
+    /// fog amount `1 - T`) that a multisampled depth pre-pass wrote with
     /// `volfog::apply::fog_layout` and resolved: the fog's colour at the resolved
     /// depth, its amount averaged over the samples (Wenzel 2007, "Scene depth based
     /// rendering and MSAA: Fog"), so silhouettes get no outline.
     ResolvedLayout,
 }
 
-/// The format of the MSAA fog layout target: two half floats (fog amount, view depth
-/// in m; half floats keep 11 bits, 0.05 % of the depth), resolvable everywhere.
+/// The format of the MSAA fog layout target: two half floats (view depth in m, fog
+/// amount; half floats keep 11 bits, 0.05 % of the depth), resolvable everywhere.
 pub const FOG_LAYOUT_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rg16Float;
 
 impl ApplyInput {

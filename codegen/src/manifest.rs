@@ -287,8 +287,8 @@ pub const PASSES: &[PassSource] = &[
                 group; its sampler (binding 2, absent in BINDINGS_NO_SAMPLER) is linear with \
                 clamp-to-edge addressing. Group 1 binding 0 is the scene depth buffer, bound \
                 as unfilterable float; under VOLFOG_APPLY_RESOLVED it is the resolved \
-                two-channel MSAA fog layout (rg16float: r the fog amount 1 - T, g the view \
-                depth in m, averaged by the resolve of a multisampled target the depth \
+                two-channel MSAA fog layout (rg16float: r the view depth in m, g the fog \
+                amount 1 - T, averaged by the resolve of a multisampled target the depth \
                 pre-pass wrote with fog_layout), bound as unfilterable float.",
         render: FULLSCREEN_COMPOSITE
     ),

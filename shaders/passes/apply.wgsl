@@ -13,7 +13,7 @@
 //   group 1, binding 0: texture_2d<f32>, unfilterable: the scene depth buffer (a depth
 //     texture bound as unfilterable float, as WebGPU allows; read with textureLoad),
 //     same size as the colour target; under VOLFOG_APPLY_RESOLVED the resolved MSAA
-//     fog layout instead (volfog::apply::fog_layout: r fog amount, g view depth in m).
+//     fog layout instead (volfog::apply::fog_layout: r view depth in m, g fog amount).
 // Defines: VOLFOG_BINDINGS_NO_SAMPLER — manual trilinear filtering, no sampler binding.
 //          VOLFOG_APPLY_RESOLVED — a multisampled scene (Wenzel 2007): the fog colour
 //          at the resolved view depth, the fog amount averaged over the samples.
@@ -31,7 +31,7 @@ fn apply_fs(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
     let froxels = bindings::fog_froxels;
 #ifdef VOLFOG_APPLY_RESOLVED
     let resolved = textureLoad(scene_depth, vec2<i32>(frag.xy), 0);
-    let view = fog_view_from_depth(uv, resolved.g, froxels.view_from_clip);
+    let view = fog_view_from_depth(uv, resolved.r, froxels.view_from_clip);
 #else
     let depth = textureLoad(scene_depth, vec2<i32>(frag.xy), 0).r;
     let view = view_from_ndc(vec3<f32>(ndc_from_uv(uv), depth), froxels.view_from_clip);
@@ -44,7 +44,7 @@ fn apply_fs(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
 #endif
     let total = fog_with_tail(fog, fog_tail(froxels, bindings::fog_far_tail, view));
 #ifdef VOLFOG_APPLY_RESOLVED
-    return fog_resolved(total, resolved.r);
+    return fog_resolved(total, resolved.g);
 #else
     return total;
 #endif

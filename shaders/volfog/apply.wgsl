@@ -22,8 +22,8 @@
 // MSAA:     a resolved depth buffer averages the depths of a silhouette's samples, and
 //           fog looked up at that average draws an outline around objects. Following
 //           Wenzel 2007 ("Scene depth based rendering and MSAA: Fog"), the pass that
-//           lays out depth also writes each sample's fog amount, fog_layout = vec2(1 - T,
-//           view depth), into a two-channel multisampled target (rg16float) whose
+//           lays out depth also writes each sample's fog amount, fog_layout = vec2(view
+//           depth, 1 - T), into a two-channel multisampled target (rg16float) whose
 //           resolve averages both; the fullscreen pass then takes the fog's colour at
 //           the resolved depth and the amount from the resolve (fog_resolved). The fog
 //           colour changes slowly across a silhouette, the amount does not.
@@ -134,11 +134,12 @@ fn apply_fog(color: vec3<f32>, fog: vec4<f32>) -> vec3<f32> {
 // of this amount (the in-scatter of thinner fog is mostly rounding).
 const FOG_RESOLVED_MIN_AMOUNT: f32 = 1e-4;
 
-// The layout of one sample for the MSAA path: vec2(fog amount 1 - T of the sample's
-// fog, its view depth in m). Write it to a two-channel multisampled target while
-// laying out depth and let the resolve average it.
+// The layout of one sample for the MSAA path: vec2(its view depth in m, the fog
+// amount 1 - T of the sample's fog). Write it to a two-channel multisampled target
+// while laying out depth and let the resolve average it; the resolved r channel is
+// also the linear depth volfog::water::water_scene_depth reads.
 fn fog_layout(fog: vec4<f32>, view_depth: f32) -> vec2<f32> {
-    return vec2<f32>(1.0 - fog.a, view_depth);
+    return vec2<f32>(view_depth, 1.0 - fog.a);
 }
 
 // Fog of a pixel from its resolved layout: fog is the fog at the resolved view depth,

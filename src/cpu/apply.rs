@@ -123,10 +123,10 @@ pub fn fog_view_from_depth(uv: Vec2, depth: f32, view_from_clip: Mat4) -> Vec3 {
 /// Below this fog amount at the resolved depth, [`fog_resolved`] keeps its colour.
 pub const FOG_RESOLVED_MIN_AMOUNT: f32 = 1e-4;
 
-/// The MSAA layout of one sample: `(1 - T, view depth)` (Wenzel 2007, "Scene depth
+/// The MSAA layout of one sample: `(view depth, 1 - T)` (Wenzel 2007, "Scene depth
 /// based rendering and MSAA: Fog").
 pub fn fog_layout(fog: Vec4, view_depth: f32) -> Vec2 {
-    Vec2::new(1.0 - fog.w, view_depth)
+    Vec2::new(view_depth, 1.0 - fog.w)
 }
 
 /// Fog of a pixel from its resolved layout: the colour of `fog` (the fog at the

@@ -14,6 +14,7 @@ mod hull;
 mod inject;
 mod js_host;
 mod lightning;
+mod msaa;
 mod noise;
 mod phase;
 mod pipeline;
