@@ -20,4 +20,5 @@ pub mod phase;
 pub mod scan;
 pub mod soft_particles;
 pub mod temporal;
+pub mod transparent;
 pub mod water;

@@ -22,6 +22,7 @@ mod properties;
 mod scan;
 mod soft_particles;
 mod temporal;
+mod transparent;
 mod water;
 
 /// What the test modules share: the device, kernels, inputs and the small scene.
