@@ -40,7 +40,11 @@ pub const OBJECT_FOG_CENTER_WEIGHT: f32 = 0.25;
 /// unless the view is vertical, then +Z).
 pub fn object_fog_points(camera_pos: Vec3, center: Vec3, radius: f32) -> [(Vec3, f32); 7] {
     let view = (center - camera_pos).normalize_or(Vec3::NEG_Z);
-    let helper = if view.y.abs() > 0.999 { Vec3::Z } else { Vec3::Y };
+    let helper = if view.y.abs() > 0.999 {
+        Vec3::Z
+    } else {
+        Vec3::Y
+    };
     let right = view.cross(helper).normalize();
     let up = right.cross(view);
     let r = radius.max(0.0);

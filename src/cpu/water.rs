@@ -29,7 +29,8 @@ pub const WATER_MIN_SHORE_FADE: f32 = 1e-6;
 /// Depth (m) of `p` below the surface; negative above it.
 pub fn water_depth(water: &Water, p: Vec3) -> f32 {
     let lim = Vec3::splat(FOG_POSITION_LIMIT);
-    water.height.clamp(-FOG_POSITION_LIMIT, FOG_POSITION_LIMIT) - p.clamp(-lim, lim).dot(water.normal)
+    water.height.clamp(-FOG_POSITION_LIMIT, FOG_POSITION_LIMIT)
+        - p.clamp(-lim, lim).dot(water.normal)
 }
 
 /// Ray parameters `[t0, t1]` within `[0, 1]` of the part of the segment from
@@ -56,7 +57,9 @@ pub fn water_light(water: &Water, p: Vec3) -> Vec3 {
 
 /// `s * exp(e0) * E(x)`, the integral of `exp(e0 - x u / s)` over `u` in `[0, s]`.
 pub fn water_exp_integral(s: f32, e0: f32, x: f32) -> f32 {
-    let e = e0.max(e0 - x).clamp(-FOG_EXPONENT_LIMIT, FOG_EXPONENT_LIMIT);
+    let e = e0
+        .max(e0 - x)
+        .clamp(-FOG_EXPONENT_LIMIT, FOG_EXPONENT_LIMIT);
     s * e.exp() * exp_segment_average(x.abs())
 }
 

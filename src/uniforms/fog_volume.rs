@@ -95,7 +95,12 @@ impl FogVolume {
     /// let fog = fog_volume(&river, Vec3::Y, Vec3::new(0.0, -2.0, 0.0));
     /// assert!((fog.w - (-1.0f32).exp()).abs() < 1e-6);
     /// ```
-    pub fn plane(point: Vec3, normal: Vec3, color: Vec3, density: f32) -> Result<Self, InvalidValue> {
+    pub fn plane(
+        point: Vec3,
+        normal: Vec3,
+        color: Vec3,
+        density: f32,
+    ) -> Result<Self, InvalidValue> {
         check_unit("FogVolume.normal", normal)?;
         check(
             point.is_finite() && point.abs().max_element() <= limits::FOG_POSITION_LIMIT,

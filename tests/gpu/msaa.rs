@@ -151,7 +151,11 @@ fn render(case: &ApplyCase, near: Vec3, far: Vec3) -> Images {
             usage,
         })
     };
-    let froxel_buffer = buffer("froxels", &case.froxels.to_bytes(), wgpu::BufferUsages::UNIFORM);
+    let froxel_buffer = buffer(
+        "froxels",
+        &case.froxels.to_bytes(),
+        wgpu::BufferUsages::UNIFORM,
+    );
     let tail_buffer = buffer("tail", &case.tail.to_bytes(), wgpu::BufferUsages::UNIFORM);
     let view_buffer = buffer(
         "view",
@@ -333,8 +337,14 @@ fn render(case: &ApplyCase, near: Vec3, far: Vec3) -> Images {
             label: Some("fog"),
             entries: &fog_layout_entries(Filtering::Sampler, wgpu::ShaderStages::FRAGMENT),
         });
-        let pass = ApplyPipeline::with_input(device, &apply_layout, Filtering::Sampler, colour_format, input)
-            .unwrap();
+        let pass = ApplyPipeline::with_input(
+            device,
+            &apply_layout,
+            Filtering::Sampler,
+            colour_format,
+            input,
+        )
+        .unwrap();
         let group = fog_bind_group(
             device,
             &apply_layout,
@@ -350,7 +360,13 @@ fn render(case: &ApplyCase, near: Vec3, far: Vec3) -> Images {
         let target = gpu.texture_2d_rgba16f("applied", [W, H], &colour_values);
         let second = pass.depth_bind_group(device, group_view);
         let mut encoder = device.create_command_encoder(&Default::default());
-        pass.record(&mut encoder, &target.create_view(&Default::default()), &group, &second, None);
+        pass.record(
+            &mut encoder,
+            &target.create_view(&Default::default()),
+            &group,
+            &second,
+            None,
+        );
         gpu.queue.submit([encoder.finish()]);
         gpu.read_texture_rgba16f(&target).unwrap()
     };
@@ -455,10 +471,7 @@ fn measure(images: &Images) -> Figures {
         outlined_resolved: 0,
         edges: 0,
     };
-    for i in 0..(W * H) as usize {
-        if !edge[i] {
-            continue;
-        }
+    for (i, _) in edge.iter().enumerate().filter(|(_, e)| **e) {
         f.edges += 1;
         let t = images.truth[i];
         let en = (images.naive[i] - t).truncate().abs().max_element();
@@ -488,7 +501,7 @@ fn check_mirror(case: &ApplyCase, images: &Images) {
     };
     let edge = silhouette(images);
     let (mut worst_cpu, mut worst_interior) = (0.0f32, 0.0f32);
-    for i in 0..(W * H) as usize {
+    for (i, on_edge) in edge.iter().enumerate() {
         let uv = Vec2::new(
             ((i % W as usize) as f32 + 0.5) / W as f32,
             ((i / W as usize) as f32 + 0.5) / H as f32,
@@ -507,10 +520,18 @@ fn check_mirror(case: &ApplyCase, images: &Images) {
         let e = (got - want).abs().max_element();
         worst_cpu = worst_cpu.max(e);
         assert!(e <= 4e-3, "pixel {i}: gpu {got} cpu {want}");
-        if !edge[i] {
-            let e = (images.resolved[i] - images.truth[i]).truncate().abs().max_element();
+        if !on_edge {
+            let e = (images.resolved[i] - images.truth[i])
+                .truncate()
+                .abs()
+                .max_element();
             worst_interior = worst_interior.max(e);
-            assert!(e <= 4e-3, "interior pixel {i}: {} vs truth {}", images.resolved[i], images.truth[i]);
+            assert!(
+                e <= 4e-3,
+                "interior pixel {i}: {} vs truth {}",
+                images.resolved[i],
+                images.truth[i]
+            );
         }
         assert!(images.resolved[i].is_finite());
     }
@@ -547,18 +568,36 @@ fn msaa_fog_layout_removes_the_silhouette_outline() {
             f.outline_resolved,
         );
     }
-    assert!(a.edges > 50, "the triangle crosses enough pixels: {}", a.edges);
+    assert!(
+        a.edges > 50,
+        "the triangle crosses enough pixels: {}",
+        a.edges
+    );
     // Same colour: averaging the amount is exact up to rounding; the averaged depth
     // is not (the fog amount is concave in depth).
     assert!(a.max_resolved <= 4e-3, "{}", a.max_resolved);
-    assert!(a.max_naive >= 10.0 * a.max_resolved.max(1e-3), "{}", a.max_naive);
+    assert!(
+        a.max_naive >= 10.0 * a.max_resolved.max(1e-3),
+        "{}",
+        a.max_naive
+    );
     assert_eq!(a.outlined_resolved, 0);
     assert!(a.outlined_naive > 0);
     // Different colours: what remains is the covariance of colour and transmittance
     // over the samples, which no fog applied after the resolve can know; it is smaller
     // than the naive error, but it can leave the neighbourhood's range.
-    assert!(b.mean_resolved < b.mean_naive, "{} vs {}", b.mean_resolved, b.mean_naive);
-    assert!(b.max_resolved < b.max_naive, "{} vs {}", b.max_resolved, b.max_naive);
+    assert!(
+        b.mean_resolved < b.mean_naive,
+        "{} vs {}",
+        b.mean_resolved,
+        b.mean_naive
+    );
+    assert!(
+        b.max_resolved < b.max_naive,
+        "{} vs {}",
+        b.max_resolved,
+        b.max_naive
+    );
 }
 
 /// The shore fade on a resolved MSAA depth: a water surface 40 m away, in front of the
@@ -596,7 +635,10 @@ fn shore_fade_uses_the_deepest_neighbour_on_resolved_depth() {
             cpu::water::water_scene_depth(&depths, W as usize, H as usize, pixel),
             fade,
         );
-        assert!((o[0] - own).abs() <= 1e-6 && (o[1] - fixed).abs() <= 1e-6, "pixel {i}: {o:?}");
+        assert!(
+            (o[0] - own).abs() <= 1e-6 && (o[1] - fixed).abs() <= 1e-6,
+            "pixel {i}: {o:?}"
+        );
         // The surface is visible where any sample sees the wall (blue in the colour).
         if images.colour[i].z > 0.01 {
             visible += 1;

@@ -43,7 +43,13 @@ fn random_fog(rng: &mut Rng) -> HeightFog {
         rng.range(-0.5, 0.5),
         rng.range(-10.0, 10.0),
     )
-    .and_then(|f| f.with_sun(rng.unit(), Vec3::new(rng.f(), rng.f(), rng.f()), rng.range(-0.9, 0.9)))
+    .and_then(|f| {
+        f.with_sun(
+            rng.unit(),
+            Vec3::new(rng.f(), rng.f(), rng.f()),
+            rng.range(-0.9, 0.9),
+        )
+    })
     .unwrap()
 }
 
@@ -59,7 +65,13 @@ fn vertex_fog_matches_cpu() {
         input.extend(o.extend(0.0).to_array());
         input.extend(s.extend(0.0).to_array());
     }
-    let out = run_f32(gpu(), VERTEX_KERNEL, &input, cases.len() * 12, cases.len() as u32);
+    let out = run_f32(
+        gpu(),
+        VERTEX_KERNEL,
+        &input,
+        cases.len() * 12,
+        cases.len() as u32,
+    );
     let mut worst = 0.0f32;
     for (i, (fog, o, s)) in cases.iter().enumerate() {
         let v = height_fog_vertex(fog, *o, *s);
@@ -226,7 +238,13 @@ fn render_ground(n: u32, fog: &HeightFog) -> (Vec<Vec4>, Vec<Vec4>) {
 #[test]
 fn vertex_fog_error_against_per_pixel_fog() {
     let fog = HeightFog::new(Vec3::new(0.6, 0.65, 0.7), 0.02, Vec3::Y, 0.15, 0.0)
-        .and_then(|f| f.with_sun(Vec3::new(0.0, 0.2, -1.0).normalize(), Vec3::new(0.5, 0.4, 0.3), 0.6))
+        .and_then(|f| {
+            f.with_sun(
+                Vec3::new(0.0, 0.2, -1.0).normalize(),
+                Vec3::new(0.5, 0.4, 0.3),
+                0.6,
+            )
+        })
         .unwrap();
     let mut rows = Vec::new();
     for n in [1u32, 4, 16, 64] {
@@ -243,13 +261,18 @@ fn vertex_fog_error_against_per_pixel_fog() {
         rows.push((n, max, mean));
     }
     for (n, max, mean) in &rows {
-        eprintln!("per-vertex height fog, {n}x{n} quads over 400 m: error vs per-pixel max {max:.4}, mean {mean:.5}");
+        eprintln!(
+            "per-vertex height fog, {n}x{n} quads over 400 m: error vs per-pixel max {max:.4}, mean {mean:.5}"
+        );
     }
     // Finer tessellation, smaller error. With 6 m quads the mean is below 1/255; the
     // largest errors sit on the quads nearest the eye (2 m away, 6 m wide), where the
     // optical depth and the sun lobe curve most across a triangle.
     assert!(rows.windows(2).all(|w| w[1].2 < w[0].2), "{rows:?}");
-    assert!(rows[0].1 > 0.05, "two triangles are visibly wrong: {rows:?}");
+    assert!(
+        rows[0].1 > 0.05,
+        "two triangles are visibly wrong: {rows:?}"
+    );
     assert!(rows[3].2 < 1.0 / 255.0 && rows[3].1 < 0.02, "{rows:?}");
 }
 
@@ -294,14 +317,16 @@ fn scene_volumes() -> Vec<FogVolume> {
     vec![
         FogVolume::plane(Vec3::ZERO, Vec3::Y, Vec3::new(0.1, 0.3, 0.35), 0.15).unwrap(),
         FogVolume::new(
-            Mat4::from_translation(Vec3::new(0.0, 6.0, -40.0)) * Mat4::from_scale(Vec3::new(30.0, 5.0, 8.0)),
+            Mat4::from_translation(Vec3::new(0.0, 6.0, -40.0))
+                * Mat4::from_scale(Vec3::new(30.0, 5.0, 8.0)),
             VolumeShape::Box,
             Vec3::new(0.7, 0.7, 0.75),
             0.04,
         )
         .unwrap(),
         FogVolume::new(
-            Mat4::from_translation(Vec3::new(12.0, 4.0, -75.0)) * Mat4::from_scale(Vec3::new(10.0, 3.5, 10.0)),
+            Mat4::from_translation(Vec3::new(12.0, 4.0, -75.0))
+                * Mat4::from_scale(Vec3::new(10.0, 3.5, 10.0)),
             VolumeShape::Ellipsoid,
             Vec3::new(0.9, 0.8, 0.6),
             0.06,
@@ -320,13 +345,19 @@ fn volumes_in_ray_order_match_radiative_transfer() {
     let mut rng = Rng(77);
     let (mut worst, mut worst_centre, mut wrong_centre) = (0.0f32, 0.0f32, 0);
     for _ in 0..60 {
-        let point = Vec3::new(rng.range(-30.0, 30.0), rng.range(-8.0, 8.0), rng.range(-110.0, -10.0));
+        let point = Vec3::new(
+            rng.range(-30.0, 30.0),
+            rng.range(-8.0, 8.0),
+            rng.range(-110.0, -10.0),
+        );
         let want = march(&volumes, eye, point);
         let got = fog_volumes_along(&volumes, eye, point);
         let e = (got - want).abs().max_element();
         worst = worst.max(e);
         assert!(e <= 1e-3, "{point}: {got} vs march {want}");
-        let by_centre = (fog_volumes(&volumes, eye, point) - want).abs().max_element();
+        let by_centre = (fog_volumes(&volumes, eye, point) - want)
+            .abs()
+            .max_element();
         worst_centre = worst_centre.max(by_centre);
         wrong_centre += (by_centre > 1e-3) as usize;
     }
@@ -350,7 +381,11 @@ fn object_fog_error_against_per_pixel_fog() {
     for radius in [0.5f32, 2.0, 6.0] {
         let (mut mean, mut max, mut mean_centre, mut count) = (0.0f32, 0.0f32, 0.0f32, 0);
         for k in 0..12 {
-            let center = Vec3::new(-20.0 + 40.0 * (k % 4) as f32 / 3.0, 1.0 + 3.0 * (k / 4) as f32, -35.0 - 5.0 * k as f32);
+            let center = Vec3::new(
+                -20.0 + 40.0 * (k % 4) as f32 / 3.0,
+                1.0 + 3.0 * (k / 4) as f32,
+                -35.0 - 5.0 * k as f32,
+            );
             let object = object_fog(&volumes, eye, center, radius);
             let centre_only = fog_volumes_along(&volumes, eye, center);
             assert!(object.is_finite() && (0.0..=1.0).contains(&object.w));
@@ -381,5 +416,8 @@ fn object_fog_error_against_per_pixel_fog() {
         );
     }
     assert!(rows[0].1 <= 0.01, "{rows:?}");
-    assert!(rows.iter().all(|r| r.1 <= r.3 + 1e-4), "the weighted points do no worse than the centre: {rows:?}");
+    assert!(
+        rows.iter().all(|r| r.1 <= r.3 + 1e-4),
+        "the weighted points do no worse than the centre: {rows:?}"
+    );
 }

@@ -103,8 +103,16 @@ fn run_gpu(cases: &[Case]) -> Vec<[f32; OUTPUTS]> {
         input.extend(c.eye.extend(0.0).to_array());
         input.extend(c.point.extend(0.0).to_array());
     }
-    let out = run_f32(gpu(), KERNEL, &input, cases.len() * OUTPUTS, cases.len() as u32);
-    out.chunks_exact(OUTPUTS).map(|c| c.try_into().unwrap()).collect()
+    let out = run_f32(
+        gpu(),
+        KERNEL,
+        &input,
+        cases.len() * OUTPUTS,
+        cases.len() as u32,
+    );
+    out.chunks_exact(OUTPUTS)
+        .map(|c| c.try_into().unwrap())
+        .collect()
 }
 
 fn random_water(rng: &mut Rng, tilted: bool) -> Water {
@@ -117,7 +125,11 @@ fn random_water(rng: &mut Rng, tilted: bool) -> Water {
     Water {
         normal,
         height: rng.range(-5.0, 5.0),
-        light: Vec3::new(rng.range(0.2, 3.0), rng.range(0.2, 3.0), rng.range(0.2, 3.0)),
+        light: Vec3::new(
+            rng.range(0.2, 3.0),
+            rng.range(0.2, 3.0),
+            rng.range(0.2, 3.0),
+        ),
         extinction: rng.log(0.005, 2.0),
         albedo: Vec3::new(rng.f(), rng.f(), rng.f()),
         g: rng.range(-0.9, 0.9),
@@ -130,8 +142,13 @@ fn random_water(rng: &mut Rng, tilted: bool) -> Water {
 
 /// The plane fog volume of the same surface, uniform density = the water's extinction.
 fn plane_volume(water: &Water) -> FogVolume {
-    FogVolume::plane(water.normal * water.height, water.normal, Vec3::new(0.2, 0.5, 0.6), water.extinction)
-        .unwrap()
+    FogVolume::plane(
+        water.normal * water.height,
+        water.normal,
+        Vec3::new(0.2, 0.5, 0.6),
+        water.extinction,
+    )
+    .unwrap()
 }
 
 /// Eye and point: anywhere around the surface, or the eye exactly on it, or the
@@ -157,7 +174,11 @@ fn reference(w: &Water, eye: Vec3, point: Vec3) -> [f64; 4] {
     let seg = point.as_dvec3() - e;
     let len = seg.length();
     let n = w.normal.as_dvec3();
-    let dir = if len > 0.0 { seg / len } else { glam::DVec3::ZERO };
+    let dir = if len > 0.0 {
+        seg / len
+    } else {
+        glam::DVec3::ZERO
+    };
     let sigma = w.extinction as f64;
     let lobe = phase_hg(dir.dot(n) as f32, w.g) as f64;
     // phase_hg in f32 is exact to ~1e-7 relative; it is not the quantity under test.
@@ -223,7 +244,12 @@ fn water_fog_matches_cpu_and_numerical_integration() {
             let scale = want[k].abs().max(floor);
             let e = (g[k] - want[k]).abs() / scale;
             worst_gpu = worst_gpu.max(e);
-            assert!(e <= 2e-4, "case {i} output {k}: gpu {} cpu {} for {c:?}", g[k], want[k]);
+            assert!(
+                e <= 2e-4,
+                "case {i} output {k}: gpu {} cpu {} for {c:?}",
+                g[k],
+                want[k]
+            );
         }
         // The independent answer, away from segments that graze the surface (where a
         // step straddling it decides the length of water to within one step).
@@ -239,11 +265,21 @@ fn water_fog_matches_cpu_and_numerical_integration() {
                 let e = (fog[k] as f64 - r[k]).abs();
                 if on_surface {
                     worst_surface = worst_surface.max(e);
-                    assert!(e <= 1e-5, "case {i} channel {k}: closed form {} f64 march {} for {c:?}", fog[k], r[k]);
+                    assert!(
+                        e <= 1e-5,
+                        "case {i} channel {k}: closed form {} f64 march {} for {c:?}",
+                        fog[k],
+                        r[k]
+                    );
                 } else {
                     let e = e / r[k].abs().max(1e-3);
                     worst_ref = worst_ref.max(e);
-                    assert!(e <= 2e-4, "case {i} channel {k}: closed form {} f64 march {} for {c:?}", fog[k], r[k]);
+                    assert!(
+                        e <= 2e-4,
+                        "case {i} channel {k}: closed form {} f64 march {} for {c:?}",
+                        fog[k],
+                        r[k]
+                    );
                 }
             }
             checked_ref += 1;
@@ -296,9 +332,14 @@ fn river_is_the_uniform_model_and_the_plane_volume() {
             plane.w,
             got.w
         );
-        assert!(Vec2::new(g[10], g[11]).distance(Vec2::new(g[0], g[1])) <= 1e-4 || (g[1] - g[0]).abs() < 1e-4);
+        assert!(
+            Vec2::new(g[10], g[11]).distance(Vec2::new(g[0], g[1])) <= 1e-4
+                || (g[1] - g[0]).abs() < 1e-4
+        );
     }
-    eprintln!("river vs uniform closed form: worst rel {worst:e} (bound 2e-4); plane volume T equal");
+    eprintln!(
+        "river vs uniform closed form: worst rel {worst:e} (bound 2e-4); plane volume T equal"
+    );
 }
 
 /// The ocean's depth-dependent terms behave as the seed describes: looking down,
@@ -307,24 +348,65 @@ fn river_is_the_uniform_model_and_the_plane_volume() {
 /// exactly on the surface looking along it, or straight up or down, gives finite fog.
 #[test]
 fn ocean_limits_and_degenerate_rays() {
-    let water = Water::ocean(0.0, Vec3::new(1.0, 0.9, 0.8), 0.3, Vec3::new(0.35, 0.07, 0.04)).unwrap();
+    let water = Water::ocean(
+        0.0,
+        Vec3::new(1.0, 0.9, 0.8),
+        0.3,
+        Vec3::new(0.35, 0.07, 0.04),
+    )
+    .unwrap();
     let volume = plane_volume(&water);
     let mut cases = vec![
         // Straight down from the surface into very deep water.
-        Case { water, volume, eye: Vec3::ZERO, point: Vec3::new(0.0, -1000.0, 0.0) },
+        Case {
+            water,
+            volume,
+            eye: Vec3::ZERO,
+            point: Vec3::new(0.0, -1000.0, 0.0),
+        },
         // On the surface, along it, both ends on it.
-        Case { water, volume, eye: Vec3::ZERO, point: Vec3::new(50.0, 0.0, 0.0) },
+        Case {
+            water,
+            volume,
+            eye: Vec3::ZERO,
+            point: Vec3::new(50.0, 0.0, 0.0),
+        },
         // Straight up from deep water to the surface and beyond.
-        Case { water, volume, eye: Vec3::new(0.0, -20.0, 0.0), point: Vec3::new(0.0, 30.0, 0.0) },
+        Case {
+            water,
+            volume,
+            eye: Vec3::new(0.0, -20.0, 0.0),
+            point: Vec3::new(0.0, 30.0, 0.0),
+        },
         // Straight up/down with a zero-length segment.
-        Case { water, volume, eye: Vec3::new(1.0, -3.0, 2.0), point: Vec3::new(1.0, -3.0, 2.0) },
+        Case {
+            water,
+            volume,
+            eye: Vec3::new(1.0, -3.0, 2.0),
+            point: Vec3::new(1.0, -3.0, 2.0),
+        },
         // Extreme positions.
-        Case { water, volume, eye: Vec3::splat(-1e9), point: Vec3::splat(1e9) },
-        Case { water, volume, eye: Vec3::new(0.0, -1e9, 0.0), point: Vec3::new(1e9, -1e9, 0.0) },
+        Case {
+            water,
+            volume,
+            eye: Vec3::splat(-1e9),
+            point: Vec3::splat(1e9),
+        },
+        Case {
+            water,
+            volume,
+            eye: Vec3::new(0.0, -1e9, 0.0),
+            point: Vec3::new(1e9, -1e9, 0.0),
+        },
     ];
     // Points straight below the surface at increasing depth.
     for d in [1.0, 5.0, 10.0, 20.0] {
-        cases.push(Case { water, volume, eye: Vec3::new(0.0, 2.0, 0.0), point: Vec3::new(0.0, -d, 0.0) });
+        cases.push(Case {
+            water,
+            volume,
+            eye: Vec3::new(0.0, 2.0, 0.0),
+            point: Vec3::new(0.0, -d, 0.0),
+        });
     }
     let gpu = run_gpu(&cases);
     for (i, g) in gpu.iter().enumerate() {
@@ -340,11 +422,18 @@ fn ocean_limits_and_degenerate_rays() {
         assert!(e <= 1e-4, "channel {k}: {} vs {want}", gpu[0][2 + k]);
     }
     // The eye on the surface looking along it: 50 m of water (the boundary is water).
-    assert!((gpu[1][5] - (-15.0f32).exp()).abs() <= 1e-6, "T along the surface {}", gpu[1][5]);
+    assert!(
+        (gpu[1][5] - (-15.0f32).exp()).abs() <= 1e-6,
+        "T along the surface {}",
+        gpu[1][5]
+    );
     // Straight up from 20 m: only the 20 m under water.
     assert!((gpu[2][5] - (-6.0f32).exp()).abs() <= 1e-6);
     // Light at depth falls red first, as exp(-K d).
-    let lights: Vec<Vec3> = gpu[6..].iter().map(|g| Vec3::new(g[6], g[7], g[8])).collect();
+    let lights: Vec<Vec3> = gpu[6..]
+        .iter()
+        .map(|g| Vec3::new(g[6], g[7], g[8]))
+        .collect();
     for (l, d) in lights.iter().zip([1.0f32, 5.0, 10.0, 20.0]) {
         let want = water.light * (-water.attenuation * d).exp();
         assert!((*l - want).abs().max_element() <= 1e-5 * want.max_element().max(1.0));

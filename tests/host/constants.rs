@@ -150,9 +150,10 @@ fn module_constants_match_their_rust_twins() {
         ),
         (
             "volfog::water",
-            &[
-                ("WATER_MIN_SHORE_FADE", cpu::water::WATER_MIN_SHORE_FADE as f64),
-            ],
+            &[(
+                "WATER_MIN_SHORE_FADE",
+                cpu::water::WATER_MIN_SHORE_FADE as f64,
+            )],
         ),
         (
             "volfog::lightning",

@@ -223,6 +223,10 @@ fn check_args(args: &DemoArgs) -> Result<(), DemoError> {
 
 /// One frame's camera, scene uniform and shadow cascades.
 struct FrameSetup {
+    /// The froxel fog is applied fullscreen (false for the camera under water, whose
+    /// view rays start in the water: the opaque pass fogs what lies beyond the
+    /// surface with the medium's analytic height fog instead).
+    froxel_apply: bool,
     eye: Vec3,
     view_from_world: Mat4,
     time: f32,
@@ -327,7 +331,11 @@ impl<'a> Demo<'a> {
         } else {
             1.0
         };
-        let (eye, view_from_world) = scene::camera(t);
+        self.setup_camera(frame, scene::camera(t))
+    }
+
+    /// Uniforms and cascades of frame `frame` seen by the camera `(eye, view_from_world)`.
+    fn setup_camera(&self, frame: u32, (eye, view_from_world): (Vec3, Mat4)) -> FrameSetup {
         let aspect = self.args.width as f32 / self.args.height as f32;
         let (cascades, texels) = scene::fit_cascades(
             view_from_world.inverse(),
@@ -357,14 +365,34 @@ impl<'a> Demo<'a> {
             glass_alpha: 0.3,
             ambient_ground: self.scene.ambient_ground,
             shadow_bias: 2e-4,
+            water: self.scene.water,
+            air: self.scene.air,
+            pool_min: scene::POOL_MIN.extend(1.0),
+            pool_max: scene::POOL_MAX.extend(0.0),
         };
         FrameSetup {
+            froxel_apply: !scene::in_pool(eye),
             eye,
             view_from_world,
             time: 3.0 + frame as f32 * FRAME_TIME,
             uniform,
             cascades,
         }
+    }
+
+    /// The lit opaque pass and sky of `setup` with the pool dry (the probe's reference
+    /// for the water), read back.
+    fn dry_surface(&self, setup: &FrameSetup) -> Result<Vec<Vec4>, DemoError> {
+        let dry = SceneUniform {
+            pool_min: setup.uniform.pool_min.truncate().extend(0.0),
+            ..setup.uniform
+        };
+        self.renderer
+            .upload(&self.gpu.queue, &dry, &setup.cascades, self.args.exposure);
+        let mut encoder = self.gpu.device.create_command_encoder(&Default::default());
+        self.renderer.encode_opaque(&mut encoder, false);
+        self.gpu.queue.submit([encoder.finish()]);
+        Ok(self.gpu.read_texture_rgba16f(&self.renderer.hdr)?)
     }
 
     /// Renders one frame and returns its per-pass GPU times, if measured.
@@ -396,12 +424,14 @@ impl<'a> Demo<'a> {
         if let Some([surface, _]) = probe {
             self.renderer.copy_hdr(&mut encoder, surface);
         }
-        self.fog.record_apply(
-            &mut encoder,
-            &self.apply,
-            self.renderer.hdr_view(),
-            &self.depth_group,
-        )?;
+        if setup.froxel_apply {
+            self.fog.record_apply(
+                &mut encoder,
+                &self.apply,
+                self.renderer.hdr_view(),
+                &self.depth_group,
+            )?;
+        }
         if let Some([_, fogged]) = probe {
             self.renderer.copy_hdr(&mut encoder, fogged);
         }
@@ -482,12 +512,88 @@ pub fn run(args: &DemoArgs) -> Result<(), DemoError> {
     if demo.probe_textures.is_some() {
         write_probe(&mut demo, &setup, &times)?;
     }
+    render_underwater(&mut demo)?;
     println!(
         "wrote {} ({:.1} s)",
         png_path.display(),
         started.elapsed().as_secs_f64()
     );
     Ok(())
+}
+
+/// Frames the second camera renders (the first reprojects the main camera's history).
+const UNDERWATER_FRAMES: u32 = 2;
+
+/// The second camera, under water in the pool: `DIR/underwater.png`, and with
+/// `--probe` its linear images (`underwater_surface.f32` the lit opaque pass and sky
+/// seen through the water, `underwater_dry.f32` the same with the pool dry,
+/// `underwater_water.f32` with every surface black (the in-scattering of the water,
+/// and beyond the surface of the air), `underwater_final.f32`,
+/// `underwater_depth.f32`) and `underwater.json`.
+fn render_underwater(demo: &mut Demo<'_>) -> Result<(), DemoError> {
+    let mut setup = None;
+    for k in 0..UNDERWATER_FRAMES {
+        let frame = demo.args.frames + k;
+        let s = demo.setup_camera(frame, scene::underwater_camera());
+        demo.render(&s, k + 1 == UNDERWATER_FRAMES)?;
+        setup = Some(s);
+    }
+    let setup = setup.expect("at least one frame");
+    let (args, gpu) = (demo.args, &demo.gpu);
+    let rgba = gpu.read_texture_raw(&demo.renderer.ldr, 4)?;
+    let png_path = args.out.join("underwater.png");
+    write_png(&png_path, args.width, args.height, &rgba)?;
+    println!("wrote {} (the camera under water)", png_path.display());
+    let Some([surface, _]) = demo.probe_textures.as_ref() else {
+        return Ok(());
+    };
+    let dir = args.out.join("probe");
+    let surface_hdr = gpu.read_texture_rgba16f(surface)?;
+    let final_hdr = gpu.read_texture_rgba16f(&demo.renderer.hdr)?;
+    let depth_raw = gpu.read_texture_raw(&demo.renderer.depth, 4)?;
+    let dry = demo.dry_surface(&setup)?;
+    let black = SceneUniform {
+        surface_scale: 0.0,
+        ..setup.uniform
+    };
+    demo.renderer
+        .upload(&gpu.queue, &black, &setup.cascades, args.exposure);
+    let mut encoder = gpu.device.create_command_encoder(&Default::default());
+    demo.renderer.encode_opaque(&mut encoder, false);
+    gpu.queue.submit([encoder.finish()]);
+    let water_hdr = gpu.read_texture_rgba16f(&demo.renderer.hdr)?;
+    for (name, data) in [
+        ("underwater_water.f32", flat(&water_hdr)),
+        ("underwater_surface.f32", flat(&surface_hdr)),
+        ("underwater_dry.f32", flat(&dry)),
+        ("underwater_final.f32", flat(&final_hdr)),
+        (
+            "underwater_depth.f32",
+            bytemuck::cast_slice(&depth_raw).to_vec(),
+        ),
+    ] {
+        write_f32(&dir.join(name), &data)?;
+    }
+    let info = json!({
+        "camera": {
+            "position": setup.uniform.camera_position.to_array(),
+            "world_from_clip": setup.uniform.world_from_clip.to_cols_array().to_vec(),
+        },
+        "water": water_json(&demo.scene.water),
+    });
+    let path = dir.join("underwater.json");
+    let text = serde_json::to_string_pretty(&info).map_err(|e| write_error(&path, e))?;
+    std::fs::write(&path, text).map_err(|e| write_error(&path, e))?;
+    Ok(())
+}
+
+/// The pool's water and footprint for the probe files.
+fn water_json(water: &volfog::uniforms::Water) -> serde_json::Value {
+    json!({
+        "uniform": water,
+        "pool_min": scene::POOL_MIN.to_array(),
+        "pool_max": scene::POOL_MAX.to_array(),
+    })
 }
 
 fn print_timings(times: &[[f64; 11]], frames: u32) {
@@ -523,6 +629,8 @@ fn write_probe(
     setup: &FrameSetup,
     times: &[[f64; 11]],
 ) -> Result<(), DemoError> {
+    let final_hdr = demo.gpu.read_texture_rgba16f(&demo.renderer.hdr)?;
+    let dry_hdr = demo.dry_surface(setup)?;
     let Demo {
         args,
         gpu,
@@ -544,7 +652,6 @@ fn write_probe(
     );
     let dir = args.out.join("probe");
     std::fs::create_dir_all(&dir).map_err(|e| write_error(&dir, e))?;
-    let final_hdr = gpu.read_texture_rgba16f(&renderer.hdr)?;
     let surface_hdr = gpu.read_texture_rgba16f(surface)?;
     let fogged_hdr = gpu.read_texture_rgba16f(fogged)?;
     let depth_raw = gpu.read_texture_raw(&renderer.depth, 4)?;
@@ -558,6 +665,10 @@ fn write_probe(
     renderer.upload(&gpu.queue, &black, cascades, args.exposure);
     let mut encoder = gpu.device.create_command_encoder(&Default::default());
     renderer.encode_opaque(&mut encoder, false);
+    gpu.queue.submit([encoder.finish()]);
+    // Before the air's fog: only the pool's underwater in-scattering remains.
+    let water_hdr = gpu.read_texture_rgba16f(&renderer.hdr)?;
+    let mut encoder = gpu.device.create_command_encoder(&Default::default());
     fog.record_apply(&mut encoder, apply, renderer.hdr_view(), depth_group)?;
     gpu.queue.submit([encoder.finish()]);
     let inscatter_hdr = gpu.read_texture_rgba16f(&renderer.hdr)?;
@@ -578,9 +689,11 @@ fn write_probe(
 
     for (name, data) in [
         ("surface.f32", flat(&surface_hdr)),
+        ("surface_dry.f32", flat(&dry_hdr)),
         ("fogged.f32", flat(&fogged_hdr)),
         ("final.f32", flat(&final_hdr)),
         ("inscatter.f32", flat(&inscatter_hdr)),
+        ("water.f32", flat(&water_hdr)),
         ("depth.f32", depth),
         ("integrated.f32", flat(&integrated)),
         ("esm.f32", esm.to_vec()),
@@ -610,10 +723,12 @@ fn write_probe(
         "timestamps": !times.is_empty(),
         "images": {
             "layout": "rgba f32 little-endian, rows top to bottom; depth.f32: one f32 per pixel (depth buffer, 0 near .. 1 far)",
-            "surface": "surface.f32: lit opaque pass and sky before the fog (alpha: sun visibility of the surface, 1 for the sky)",
+            "surface": "surface.f32: lit opaque pass and sky before the fog (alpha: sun visibility of the surface, 1 for the sky), seen through the pool's water",
+            "surface_dry": "surface_dry.f32: the same with the pool dry",
             "fogged": "fogged.f32: after the fullscreen fog apply (alpha kept)",
             "final": "final.f32: after the semi-transparent pass, before the tonemap",
             "inscatter": "inscatter.f32: every surface and the sky black, then the fog applied: the in-scattered radiance",
+            "water": "water.f32: every surface and the sky black, before the fog: the pool's underwater in-scattering",
             "integrated": "integrated.f32: the integrated froxel volume (rgb in-scatter, a transmittance), x fastest, then y, then z",
             "esm": "esm.f32: the filtered ESM, one esm_resolution^2 layer per cascade",
         },
@@ -624,6 +739,7 @@ fn write_probe(
             "world_from_clip": mat(uniform.world_from_clip),
         },
         "sun_direction": uniform.sun_direction.to_array(),
+        "water": water_json(&scene.water),
         "medium": {
             "density": medium.density,
             "height_falloff": medium.height_falloff,

@@ -44,6 +44,15 @@ pub struct SceneUniform {
     pub glass_alpha: f32,
     pub ambient_ground: Vec3,
     pub shadow_bias: f32,
+    /// The pool's water (`volfog::water`).
+    pub water: volfog::uniforms::Water,
+    /// The medium as analytic height fog, for what a camera under water sees above
+    /// the surface.
+    pub air: volfog::uniforms::HeightFog,
+    /// The pool's footprint (x, z) from `pool_min` to `pool_max`; `pool_min.w` 1 turns
+    /// the water on, 0 renders the pool dry (the probe's reference).
+    pub pool_min: Vec4,
+    pub pool_max: Vec4,
 }
 
 /// The demo's own passes, timed with GPU timestamps when available.
@@ -94,6 +103,7 @@ pub struct Renderer {
     opaque: Geometry,
     emissive: Geometry,
     glass: Geometry,
+    water_surface: Geometry,
     scene_buffer: wgpu::Buffer,
     cascades_buffer: wgpu::Buffer,
     cascade_matrices: Vec<wgpu::Buffer>,
@@ -105,6 +115,7 @@ pub struct Renderer {
     opaque_pipeline: wgpu::RenderPipeline,
     sky_pipeline: wgpu::RenderPipeline,
     transparent_pipeline: wgpu::RenderPipeline,
+    water_pipeline: wgpu::RenderPipeline,
     tonemap_pipeline: wgpu::RenderPipeline,
     timestamps: Option<volfog::pipeline::TimestampPairs>,
 }
@@ -485,6 +496,17 @@ impl Renderer {
             back_culled,
             depth_state(false, wgpu::CompareFunction::Less),
         );
+        // The water surface: seen from above and from below (no culling).
+        let water_pipeline = render_pipeline(
+            "demo water",
+            &transparent_layout,
+            &scene_module,
+            "scene_vs",
+            &vertex_layout,
+            Some(("water_fs", &color(HDR_FORMAT, Some(glass_blend)))),
+            wgpu::PrimitiveState::default(),
+            depth_state(false, wgpu::CompareFunction::Less),
+        );
         let tonemap_pipeline = render_pipeline(
             "demo tonemap",
             &layout("demo tonemap", &[&tonemap_layout]),
@@ -521,6 +543,7 @@ impl Renderer {
             opaque: Geometry::new(device, "demo opaque", &scene.opaque),
             emissive: Geometry::new(device, "demo emissive", &scene.emissive),
             glass: Geometry::new(device, "demo glass", &scene.glass),
+            water_surface: Geometry::new(device, "demo water", &scene.water_surface),
             scene_buffer,
             cascades_buffer,
             cascade_matrices,
@@ -532,6 +555,7 @@ impl Renderer {
             opaque_pipeline,
             sky_pipeline,
             transparent_pipeline,
+            water_pipeline,
             tonemap_pipeline,
             timestamps,
         })
@@ -651,8 +675,8 @@ impl Renderer {
         pass.draw(0..3, 0..1);
     }
 
-    /// The semi-transparent sphere, fogged through the forward snippet, blended over
-    /// the fogged opaque image.
+    /// The semi-transparent sphere and the pool's water surface, fogged through the
+    /// forward snippet, blended over the fogged opaque image.
     pub fn encode_transparent(&self, encoder: &mut wgpu::CommandEncoder, fog: &VolumetricFog) {
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("demo transparent"),
@@ -681,6 +705,8 @@ impl Renderer {
         pass.set_bind_group(0, &self.scene_group, &[]);
         pass.set_bind_group(1, fog.fog_bind_group(), &[]);
         self.glass.draw(&mut pass);
+        pass.set_pipeline(&self.water_pipeline);
+        self.water_surface.draw(&mut pass);
     }
 
     /// HDR -> sRGB display colour.
@@ -762,6 +788,10 @@ impl SceneUniform {
             glass_alpha: 0.0,
             ambient_ground: Vec3::ZERO,
             shadow_bias: 0.0,
+            water: volfog::uniforms::Water::default(),
+            air: volfog::uniforms::HeightFog::default(),
+            pool_min: Vec4::ZERO,
+            pool_max: Vec4::ZERO,
         }
     }
 }

@@ -1,14 +1,23 @@
 //! The demo scene: a checkered ground, a colonnade wall of pillars with an arch,
-//! a glass sphere on a plinth, a low sun, coloured point and spot lights, a local fog
-//! pocket, the medium and the camera path.
+//! a glass sphere on a plinth, a tiled pool of water sunk into the ground, a low sun,
+//! coloured point and spot lights, a local fog pocket, the medium and the camera paths
+//! (the main camera above the ground and one under water).
 
 use glam::{Mat4, Quat, Vec3};
 use volfog::cpu::ambient::AmbientSh;
 use volfog::limits::InvalidValue;
 use volfog::pipeline::cascade_projection;
 use volfog::uniforms::{
-    DirectionalLight, FogLight, FogMedium, LocalVolume, ShadowCascades, VolumeShape,
+    DirectionalLight, FogLight, FogMedium, HeightFog, LocalVolume, ShadowCascades, VolumeShape,
+    Water,
 };
+
+/// The pool: its footprint on the ground (x, z from min to max), its depth and the
+/// water surface's height (m).
+pub const POOL_MIN: Vec3 = Vec3::new(-3.5, POOL_FLOOR, -19.0);
+pub const POOL_MAX: Vec3 = Vec3::new(0.5, 0.0, -14.5);
+const POOL_FLOOR: f32 = -2.0;
+const WATER_HEIGHT: f32 = -0.15;
 
 /// Surface kinds (the `kind` vertex attribute).
 const PLAIN: f32 = 0.0;
@@ -141,6 +150,12 @@ pub struct Scene {
     pub emissive: Mesh,
     /// The semi-transparent object.
     pub glass: Mesh,
+    /// The pool's water surface (blended, both sides).
+    pub water_surface: Mesh,
+    /// The pool's water.
+    pub water: Water,
+    /// The medium as analytic height fog (seen from under water, beyond the surface).
+    pub air: HeightFog,
     pub sun: DirectionalLight,
     pub lights: Vec<FogLight>,
     pub local_volumes: Vec<LocalVolume>,
@@ -176,19 +191,79 @@ pub fn build() -> Result<Scene, InvalidValue> {
     let mut opaque = Mesh::default();
 
     // The ground: a 600 m square with a 1 m checkerboard.
+    // The ground: a 600 m square with a 1 m checkerboard, around the pool's opening.
     let g = 300.0;
-    let base = opaque.vertices.len() as u32;
-    for (x, z) in [(-g, g), (g, g), (g, -g), (-g, -g)] {
-        opaque.push(
-            Vec3::new(x, 0.0, z),
-            Vec3::Y,
-            Vec3::new(0.55, 0.52, 0.46),
-            CHECKER,
-        );
+    let ground = Vec3::new(0.55, 0.52, 0.46);
+    // The opening includes the pool's walls (t thick), whose tops are its rim.
+    let t = 0.3;
+    let (p0, p1) = (
+        POOL_MIN - Vec3::new(t, 0.0, t),
+        POOL_MAX + Vec3::new(t, 0.0, t),
+    );
+    for (x0, x1, z0, z1) in [
+        (-g, g, p1.z, g),
+        (-g, g, -g, p0.z),
+        (-g, p0.x, p0.z, p1.z),
+        (p1.x, g, p0.z, p1.z),
+    ] {
+        let base = opaque.vertices.len() as u32;
+        for (x, z) in [(x0, z1), (x1, z1), (x1, z0), (x0, z0)] {
+            opaque.push(Vec3::new(x, 0.0, z), Vec3::Y, ground, CHECKER);
+        }
+        opaque
+            .indices
+            .extend_from_slice(&[base, base + 1, base + 2, base, base + 2, base + 3]);
     }
-    opaque
+    // The pool: light tiles, walls and floor as boxes whose inner faces line the
+    // basin.
+    let tiles = Vec3::new(0.7, 0.78, 0.8);
+    let (p0, p1) = (POOL_MIN, POOL_MAX);
+    opaque.aabb(
+        Vec3::new(p0.x - t, POOL_FLOOR - t, p0.z - t),
+        Vec3::new(p1.x + t, POOL_FLOOR, p1.z + t),
+        tiles,
+    );
+    for (min, max) in [
+        (
+            Vec3::new(p0.x - t, POOL_FLOOR, p0.z - t),
+            Vec3::new(p0.x, 0.0, p1.z + t),
+        ),
+        (
+            Vec3::new(p1.x, POOL_FLOOR, p0.z - t),
+            Vec3::new(p1.x + t, 0.0, p1.z + t),
+        ),
+        (
+            Vec3::new(p0.x, POOL_FLOOR, p0.z - t),
+            Vec3::new(p1.x, 0.0, p0.z),
+        ),
+        (
+            Vec3::new(p0.x, POOL_FLOOR, p1.z),
+            Vec3::new(p1.x, 0.0, p1.z + t),
+        ),
+    ] {
+        opaque.aabb(min, max, tiles);
+    }
+    let mut water_surface = Mesh::default();
+    let base = water_surface.vertices.len() as u32;
+    for (x, z) in [(p0.x, p1.z), (p1.x, p1.z), (p1.x, p0.z), (p0.x, p0.z)] {
+        water_surface.push(Vec3::new(x, WATER_HEIGHT, z), Vec3::Y, tiles, PLAIN);
+    }
+    water_surface
         .indices
         .extend_from_slice(&[base, base + 1, base + 2, base, base + 2, base + 3]);
+    // Clear water lit by the sky: light fades with depth, red first (ocean model).
+    let water = Water {
+        albedo: Vec3::new(0.8, 0.9, 0.95),
+        g: 0.0,
+        shore_fade: 0.2,
+        ..Water::ocean(
+            WATER_HEIGHT,
+            Vec3::new(3.0, 5.0, 5.5),
+            0.35,
+            Vec3::new(0.5, 0.12, 0.08),
+        )?
+    }
+    .validated()?;
 
     // The colonnade: one row of pillars across the view at z = -25 under a lintel,
     // with an arch in the middle; the low sun stands behind it.
@@ -350,6 +425,9 @@ pub fn build() -> Result<Scene, InvalidValue> {
         opaque,
         emissive,
         glass,
+        water_surface,
+        water,
+        air: HeightFog::from_medium(&medium, Vec3::new(0.45, 0.4, 0.33)),
         sun,
         lights,
         local_volumes,
@@ -365,6 +443,27 @@ pub fn build() -> Result<Scene, InvalidValue> {
 pub fn camera(t: f32) -> (Vec3, Mat4) {
     let eye = Vec3::new(-2.0 + 2.5 * t, 1.8 - 0.1 * t, -8.0 - 3.0 * t);
     let target = Vec3::new(0.5, 2.8, -25.0);
+    (
+        eye,
+        glam::camera::rh::view::look_at_mat4(eye, target, Vec3::Y),
+    )
+}
+
+/// Is `p` in the pool's water (within the footprint, below the surface)?
+/// As `in_pool` of `scene.wgsl`, with its 1 cm of slack around the footprint.
+pub fn in_pool(p: Vec3) -> bool {
+    p.x >= POOL_MIN.x - 0.01
+        && p.x <= POOL_MAX.x + 0.01
+        && p.z >= POOL_MIN.z - 0.01
+        && p.z <= POOL_MAX.z + 0.01
+        && p.y <= WATER_HEIGHT
+}
+
+/// The second camera: under water in the pool's near half, looking along it towards
+/// the far wall and up through the surface.
+pub fn underwater_camera() -> (Vec3, Mat4) {
+    let eye = Vec3::new(-1.5, -1.3, -15.0);
+    let target = Vec3::new(-1.2, -0.5, -19.0);
     (
         eye,
         glam::camera::rh::view::look_at_mat4(eye, target, Vec3::Y),

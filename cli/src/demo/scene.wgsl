@@ -1,6 +1,8 @@
 // Demo scene shading: the lit opaque pass (sun with cascaded shadow maps, point and
-// spot lights, hemisphere ambient), the sky, and a semi-transparent surface fogged
-// through the forward snippet (volfog::apply with volfog::bindings at group 1).
+// spot lights, hemisphere ambient), the sky, a semi-transparent surface fogged
+// through the forward snippet (volfog::apply with volfog::bindings at group 1), and
+// the pool: submerged surfaces lit through the water and seen through its fog
+// (volfog::water), and its surface.
 //
 // Bindings (group 0): 0 Scene, 1 lights (array<FogLight>), 2 ShadowCascades,
 //                     3 shadow map (depth 2D array, one layer per cascade),
@@ -10,7 +12,9 @@
 // surface (1 for the sky) for the demo's probe output; the fullscreen apply and the
 // transparent pass keep the destination alpha.
 
-#import volfog::types::{FogLight, ShadowCascades}
+#import volfog::types::{FogLight, HeightFog, ShadowCascades, Water}
+#import volfog::height_fog::height_fog
+#import volfog::water::{water_fog, water_light}
 #import volfog::lights::{light_attenuation, spot_factor}
 #import volfog::esm::{esm_cascade, esm_shadow_coord}
 #import volfog::bindings
@@ -36,6 +40,12 @@ struct Scene {
     ambient_ground: vec3<f32>,
     // Constant depth bias of the shadow-map comparison (light clip depth units).
     shadow_bias: f32,
+    water: Water,
+    // The medium as analytic height fog: from under water, the air beyond the surface.
+    air: HeightFog,
+    // The pool's footprint (x, z); pool_min.w 1 turns the water on.
+    pool_min: vec4<f32>,
+    pool_max: vec4<f32>,
 }
 
 @group(0) @binding(0) var<uniform> scene: Scene;
@@ -135,17 +145,53 @@ fn shade(in: VertexOut, view_depth: f32) -> Shaded {
     if in.kind > 0.5 {
         albedo *= checker(in.world);
     }
+    if in_pool(in.world) {
+        // Under water the light falls straight down and fades with depth
+        // (volfog::water's model); the low sun's direct light does not reach here.
+        let down = water_light(scene.water, in.world) * (0.5 + 0.5 * dot(n, scene.water.normal));
+        let e = down + ambient_irradiance(n) + local_irradiance(in.world, n);
+        return Shaded(albedo / PI * e * scene.surface_scale, 1.0);
+    }
     let vis = sun_visibility(in.world, n, view_depth);
     let sun = scene.sun_color * (vis * max(dot(n, scene.sun_direction), 0.0));
     let e = sun + ambient_irradiance(n) + local_irradiance(in.world, n);
     return Shaded(albedo / PI * e * scene.surface_scale, vis);
 }
 
+// In the pool's water: within the basin's footprint and below the surface (the
+// basin's walls bound the water, which volfog::water treats as a half-space).
+fn in_pool(p: vec3<f32>) -> bool {
+    // 1 cm of slack: the basin's inner faces lie on the footprint's edges.
+    let inside = p.x >= scene.pool_min.x - 0.01 && p.x <= scene.pool_max.x + 0.01
+        && p.z >= scene.pool_min.z - 0.01 && p.z <= scene.pool_max.z + 0.01;
+    return scene.pool_min.w > 0.5 && inside && dot(p, scene.water.normal) <= scene.water.height;
+}
+
+// Radiance of a surface at p as the camera sees it through the water: a view ray
+// from or into the water is fogged over its underwater part (and, from under water,
+// by the air beyond the surface). Elsewhere unchanged.
+fn through_water(radiance: vec3<f32>, p: vec3<f32>) -> vec3<f32> {
+    var c = radiance;
+    let eye = scene.camera_position;
+    if in_pool(eye) && !in_pool(p) {
+        // From under water: the air between the surface and p first (the froxel
+        // volume starts at the camera, so it is not applied to this view).
+        let d0 = scene.water.height - dot(eye, scene.water.normal);
+        let d1 = scene.water.height - dot(p, scene.water.normal);
+        let exit = eye + (p - eye) * clamp(d0 / max(d0 - d1, 1e-6), 0.0, 1.0);
+        c = apply_fog(c, height_fog(scene.air, exit, p - exit));
+    }
+    if in_pool(p) || in_pool(eye) {
+        c = apply_fog(c, water_fog(scene.water, eye, p));
+    }
+    return c;
+}
+
 @fragment
 fn opaque_fs(in: VertexOut) -> @location(0) vec4<f32> {
     let view_depth = -(scene.view_from_world * vec4<f32>(in.world, 1.0)).z;
     let s = shade(in, view_depth);
-    return vec4<f32>(s.radiance, s.sun_visibility);
+    return vec4<f32>(through_water(s.radiance, in.world), s.sun_visibility);
 }
 
 // The sky behind everything: a fullscreen triangle at the far plane.
@@ -176,7 +222,9 @@ fn sky_fs(in: SkyOut) -> @location(0) vec4<f32> {
     if dir.y < 0.0 {
         sky = scene.ambient_ground;
     }
-    return vec4<f32>(sky * scene.surface_scale, 1.0);
+    // From under water the sky lies beyond the surface: 1 km along the ray.
+    let far_point = scene.camera_position + dir * 1000.0;
+    return vec4<f32>(through_water(sky * scene.surface_scale, far_point), 1.0);
 }
 
 // The semi-transparent surface: shaded like the opaque pass plus a Fresnel-like rim,
@@ -195,4 +243,28 @@ fn transparent_fs(in: VertexOut) -> @location(0) vec4<f32> {
                          fog_coord_from_view(view_pos, bindings::fog_froxels));
     let alpha = clamp(scene.glass_alpha + 0.5 * rim, 0.0, 1.0);
     return vec4<f32>(apply_fog(lit, fog), alpha);
+}
+
+// The pool's water surface: a Fresnel-weighted reflection of the sky and the sun seen
+// from above, blended over the submerged scene (already fogged by the water in the
+// opaque pass) and fogged by the air; seen from below, the underside fogged by the
+// water between it and the camera.
+@fragment
+fn water_fs(in: VertexOut) -> @location(0) vec4<f32> {
+    let v = normalize(scene.camera_position - in.world);
+    let up = scene.water.normal;
+    let cos_v = clamp(abs(dot(up, v)), 0.0, 1.0);
+    let fresnel = 0.02 + 0.98 * pow(1.0 - cos_v, 5.0);
+    let view_pos = (scene.view_from_world * vec4<f32>(in.world, 1.0)).xyz;
+    if in_pool(scene.camera_position) {
+        let under = scene.sky_horizon * scene.surface_scale;
+        return vec4<f32>(apply_fog(under, water_fog(scene.water, scene.camera_position, in.world)), 0.15);
+    }
+    let r = reflect(-v, up);
+    let sky = mix(scene.sky_horizon, scene.sky_zenith, sqrt(clamp(r.y, 0.0, 1.0)));
+    let glint = scene.sun_color * (0.5 * pow(max(dot(r, scene.sun_direction), 0.0), 400.0));
+    let lit = (sky + glint) * scene.surface_scale;
+    let fog = fog_sample(bindings::fog_integrated, bindings::fog_sampler,
+                         fog_coord_from_view(view_pos, bindings::fog_froxels));
+    return vec4<f32>(apply_fog(lit, fog), fresnel);
 }
