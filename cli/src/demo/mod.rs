@@ -5,7 +5,10 @@
 //! sky -> fog prepare/encode (froxel culling by this frame's depth buffer, ESM
 //! downsample, blur, inject, temporal, scan) -> fullscreen fog apply -> semi-transparent sphere fogged by the forward snippet ->
 //! tonemap. The camera moves along a short path so the temporal reprojection works on
-//! a moving view; the last frame is written as `DIR/demo.png`.
+//! a moving view; the last frame is written as `DIR/demo.png`. The pool's water
+//! (`volfog::water`) is shaded in the opaque pass; then a second camera under water
+//! renders `DIR/underwater.png` (the froxel apply is skipped there: the opaque pass
+//! fogs what lies beyond the surface with the medium's analytic height fog).
 //!
 //! `--probe` also writes `DIR/probe/`: linear float images of the last frame (before
 //! the apply, after it, after the transparent pass, and with every surface black, which
