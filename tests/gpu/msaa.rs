@@ -333,37 +333,23 @@ fn render(case: &ApplyCase, near: Vec3, far: Vec3) -> Images {
 
     // The seed's path over a copy of the resolved colour.
     let apply = |input: ApplyInput, group_view: &wgpu::TextureView| {
-        let apply_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("fog"),
-            entries: &fog_layout_entries(Filtering::Sampler, wgpu::ShaderStages::FRAGMENT),
-        });
+        // The scene's fog group (visible to both stages) serves the apply pass too.
         let pass = ApplyPipeline::with_input(
             device,
-            &apply_layout,
+            &fog_layout,
             Filtering::Sampler,
             colour_format,
             input,
         )
         .unwrap();
-        let group = fog_bind_group(
-            device,
-            &apply_layout,
-            Filtering::Sampler,
-            &FogResources {
-                froxels: &froxel_buffer,
-                integrated: &volume_view,
-                tail: &tail_buffer,
-                view: &view_buffer,
-                sampler: &sampler,
-            },
-        );
+        let group = &fog_group;
         let target = gpu.texture_2d_rgba16f("applied", [W, H], &colour_values);
         let second = pass.depth_bind_group(device, group_view);
         let mut encoder = device.create_command_encoder(&Default::default());
         pass.record(
             &mut encoder,
             &target.create_view(&Default::default()),
-            &group,
+            group,
             &second,
             None,
         );

@@ -133,14 +133,7 @@ impl GroundPixel {
 fn ground_pixels(run: &Run) -> Vec<GroundPixel> {
     let camera = &run.probe["camera"];
     let world_from_clip = mat(&camera["world_from_clip"]);
-    let eye = Vec3::from_slice(
-        &camera["position"]
-            .as_array()
-            .unwrap()
-            .iter()
-            .map(|x| num(x) as f32)
-            .collect::<Vec<_>>(),
-    );
+    let eye = vec3(&camera["position"]);
     let depth = read_f32(run, "depth.f32");
     let surface = read_rgba(run, "surface.f32");
     let fogged = read_rgba(run, "fogged.f32");
@@ -547,8 +540,7 @@ fn pool(run: &Run) -> (volfog::uniforms::Water, impl Fn(Vec3) -> bool) {
     let w = &run.probe["water"];
     let water: volfog::uniforms::Water =
         serde_json::from_value(w["uniform"].clone()).expect("Water deserializes");
-    let v3 = |v: &Value| Vec3::new(num(&v[0]) as f32, num(&v[1]) as f32, num(&v[2]) as f32);
-    let (lo, hi) = (v3(&w["pool_min"]), v3(&w["pool_max"]));
+    let (lo, hi) = (vec3(&w["pool_min"]), vec3(&w["pool_max"]));
     let inside = move |p: Vec3| {
         p.x >= lo.x - 0.01
             && p.x <= hi.x + 0.01
@@ -609,14 +601,7 @@ fn pool_water_seen_from_above() {
     let run = run();
     let (water, inside) = pool(run);
     let camera = &run.probe["camera"];
-    let eye = Vec3::from_slice(
-        &camera["position"]
-            .as_array()
-            .unwrap()
-            .iter()
-            .map(|x| num(x) as f32)
-            .collect::<Vec<_>>(),
-    );
+    let eye = vec3(&camera["position"]);
     let world = world_positions(&read_f32(run, "depth.f32"), mat(&camera["world_from_clip"]));
     let (n, worst) =
         check_water_inscatter(&water, &inside, eye, &world, &read_rgba(run, "water.f32"));
@@ -650,14 +635,7 @@ fn pool_water_seen_from_below() {
         std::fs::read_to_string(run.dir.join("probe/underwater.json")).expect("underwater.json");
     let info: Value = serde_json::from_str(&text).expect("parses");
     let (water, inside) = pool(run);
-    let eye = Vec3::from_slice(
-        &info["camera"]["position"]
-            .as_array()
-            .unwrap()
-            .iter()
-            .map(|x| num(x) as f32)
-            .collect::<Vec<_>>(),
-    );
+    let eye = vec3(&info["camera"]["position"]);
     assert!(inside(eye), "the second camera is under water");
     let world = world_positions(
         &read_f32(run, "underwater_depth.f32"),
