@@ -207,6 +207,28 @@ pub const FOG_SUN_G: Range<f32> = Range::new(-0.999, 0.999, "");
 pub const MAX_FOG_VOLUME_LOCAL_SCALE: f32 = 1.0e6;
 /// Single-scattering albedo of water, per channel.
 pub const WATER_ALBEDO: Range<f32> = Range::new(0.0, 1.0, "per channel");
+/// Planet radius of a sky atmosphere.
+pub const SKY_PLANET_RADIUS: Range<f32> = Range::new(1.0e3, 1.0e8, "m");
+/// Scattering coefficients of a sky atmosphere at the ground.
+pub const SKY_SCATTERING: Range<f32> = Range::new(0.0, 1.0e-2, "1/m");
+/// Scale heights of a sky atmosphere.
+pub const SKY_SCALE_HEIGHT: Range<f32> = Range::new(1.0, 1.0e6, "m");
+/// Mie extinction over Mie scattering.
+pub const SKY_MIE_EXTINCTION_RATIO: Range<f32> = Range::new(1.0, 10.0, "");
+/// Mean cosine of Mie scattering (Cornette-Shanks).
+pub const SKY_MIE_G: Range<f32> = Range::new(0.0, 0.999, "");
+/// Quadrature points of the sky solve.
+pub const SKY_SAMPLES: Range<u32> = Range::new(1, 256, "samples");
+/// Thickness of a cloud layer.
+pub const CLOUD_THICKNESS: Range<f32> = Range::above(0.0, 1.0e5, "m");
+/// Extinction of a cloud layer at map density 1.
+pub const CLOUD_EXTINCTION: Range<f32> = Range::new(0.0, 10.0, "1/m");
+/// World size of one repeat of a cloud map.
+pub const CLOUD_MAP_SIZE: Range<f32> = Range::above(0.0, 1.0e7, "m");
+/// Samples of the distance clouds' march.
+pub const CLOUD_SAMPLES: Range<u32> = Range::new(1, 64, "samples");
+/// Rim light strength of a cloud layer.
+pub const CLOUD_RIM: Range<f32> = Range::new(0.0, 1.0e3, "");
 /// Shore fade distance of a water surface.
 pub const WATER_SHORE_FADE: Range<f32> = Range::new(0.0, 1.0e9, "m");
 /// Extinction inside a fog hull (1/m).

@@ -244,6 +244,9 @@ pub const MODULES: &[ModuleSource] = &[
     module!("water"),
     module!("lightning"),
     module!("soft_particles"),
+    module!("sky"),
+    module!("frustum"),
+    module!("clouds"),
 ];
 
 /// Passes (entry-point files) and their define axes.
@@ -387,6 +390,48 @@ pub const PASSES: &[PassSource] = &[
             front_face: "ccw",
             cull_mode: "none",
         }
+    ),
+    pass!(
+        "sky_solve",
+        axes: &[],
+        values: &[],
+        usage: "Dispatch ceil(SKY_TEXTURE_WIDTH / 8) x ceil(rows / 8) x 1 workgroups to fill \
+                rows [first_row, first_row + rows) of the sky texture (SkyAtmosphere.first_row): \
+                all 64 rows at once, or a band per frame. Binding 1 is a 128 x 64 rgba16float \
+                2D array of 2 layers (0 Rayleigh, 1 Mie) with storage and texture binding \
+                usage; sky_draw and volfog::sky::sky_sample read it with a linear sampler, \
+                repeat in u, clamp-to-edge in v."
+    ),
+    pass!(
+        "sky_horizon",
+        axes: &[],
+        values: &[],
+        usage: "Dispatch 1 workgroup whenever the sun moves. Binding 1 is a 32-byte storage \
+                buffer: the Rayleigh (bytes 0-11) and Mie (bytes 16-27) scattering of the sky \
+                averaged along the horizon, the colour of fog that matches the sky there \
+                (volfog::sky::sky_radiance with the view's phase)."
+    ),
+    pass!(
+        "sky_draw",
+        axes: &[],
+        values: &[],
+        usage: "Draw 3 vertices with sky_draw_vs, no vertex buffers, onto the colour target \
+                before the opaque geometry (no blending, no depth attachment). Binding 2 is \
+                the sky texture sky_solve wrote; the sampler (binding 3) is linear, repeat in \
+                u and clamp-to-edge in v.",
+        render: RenderState { vertex: None, blend: None, ..FULLSCREEN_COMPOSITE }
+    ),
+    pass!(
+        "clouds",
+        axes: &[],
+        values: &[],
+        usage: "Draw 3 vertices with clouds_vs, no vertex buffers, onto the lit colour \
+                target (load, no depth attachment), with cloud_shadow_fs (the clouds' shadow \
+                on the lit scene), distance_clouds_fs or cloud_layer_fs. Blend colour: src * \
+                One + dst * SrcAlpha (add); alpha: src * Zero + dst * One (add). Binding 2 is \
+                the cloud density map (red channel) with a linear, repeat sampler (binding \
+                3); binding 4 the scene depth buffer, bound as unfilterable float.",
+        render: RenderState { vertex: None, ..FULLSCREEN_COMPOSITE }
     ),
     pass!(
         "hull_composite",

@@ -31,13 +31,16 @@ use crate::reflect::{StructLayout, struct_layouts};
 use crate::{CodegenError, Target, names};
 
 /// The modules exported as snippets.
-pub const SNIPPET_MODULES: [&str; 7] = [
+pub const SNIPPET_MODULES: [&str; 10] = [
     "apply",
     "height_fog",
     "fog_volume",
     "lightning",
     "soft_particles",
     "water",
+    "sky",
+    "clouds",
+    "frustum",
     "phase",
 ];
 

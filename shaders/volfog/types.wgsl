@@ -245,6 +245,82 @@ struct Water {
     shore_fade: f32,
 }
 
+// A single-scattering atmosphere (Nishita et al. 1993; Wenzel 2007, eq. 1;
+// volfog::sky): Rayleigh and Mie scattering with exponential height profiles over a
+// spherical planet, the camera on the ground, the world's up axis +Y.
+struct SkyAtmosphere {
+    // Unit direction towards the sun (world space).
+    sun_direction: vec3<f32>,
+    // Planet radius, m, [1e3, 1e8].
+    planet_radius: f32,
+    // Rayleigh scattering coefficients at the ground per channel, 1/m, [0, 1e-2].
+    rayleigh: vec3<f32>,
+    // Radius of the top of the atmosphere, m, above planet_radius (at most 2x).
+    atmosphere_radius: f32,
+    // Solar irradiance (linear rgb), [0, 1e9].
+    sun_intensity: vec3<f32>,
+    // Camera altitude above the ground, m, [0, atmosphere_radius - planet_radius).
+    camera_height: f32,
+    // Rayleigh scale height, m, [1, 1e6].
+    rayleigh_height: f32,
+    // Mie scattering coefficient at the ground, 1/m, [0, 1e-2].
+    mie: f32,
+    // Mie scale height, m, [1, 1e6].
+    mie_height: f32,
+    // Mie extinction over Mie scattering, [1, 10] (1.11 for haze).
+    mie_extinction_ratio: f32,
+    // Cornette-Shanks mean cosine of Mie scattering, [0, 0.999].
+    mie_g: f32,
+    // Quadrature points along the view ray and towards the sun, [1, 256].
+    view_samples: u32,
+    light_samples: u32,
+    // First texture row the sky_solve dispatch fills (the solve spread over frames).
+    first_row: u32,
+}
+
+// Rays through the screen's corners for fullscreen passes (Wenzel 2007, "Recovering
+// World Space Position from Depth"; volfog::frustum).
+struct FrustumRays {
+    // World-space vectors from the camera to the points at view depth 1 m through the
+    // corners uv (0, 0), (1, 0), (0, 1), (1, 1) (xyz; w 0).
+    corners: array<vec4<f32>, 4>,
+    // Camera position in world space (xyz; w 1), m.
+    camera: vec4<f32>,
+    // View depth from a depth-buffer value d: -(x d + y) / (z d + w), the depth rows of
+    // the inverse projection.
+    depth_terms: vec4<f32>,
+}
+
+// A cloud layer (Wenzel 2007, "Clouds", "Cloud Shadows", "Distance Clouds";
+// volfog::clouds): a horizontal slab whose density is a wind-scrolled 2D map.
+struct CloudLayer {
+    // Unit direction towards the sun.
+    sun_direction: vec3<f32>,
+    // Height of the layer's base (m along +Y).
+    base_height: f32,
+    // Sun radiance scattered by the clouds (linear rgb, radiance * sr), [0, 1e9].
+    sun_color: vec3<f32>,
+    // Thickness of the layer, m, (0, 1e5].
+    thickness: f32,
+    // Sky light on the clouds (linear rgb radiance), [0, 1e9].
+    sky_color: vec3<f32>,
+    // Extinction at map density 1, 1/m, [0, 10].
+    extinction: f32,
+    // Wind: how far the map moves per second (m/s, world x and z).
+    wind: vec2<f32>,
+    // Metres of world per repeat of the map, (0, 1e7].
+    map_size: f32,
+    // Time, s.
+    time: f32,
+    // Samples along the view ray and towards the sun (distance clouds), [1, 64].
+    view_samples: u32,
+    sun_samples: u32,
+    // Henyey-Greenstein mean cosine of the sun's scattering, [-0.999, 0.999].
+    g: f32,
+    // Rim light strength (the silver lining of thin cloud edges), [0, 1e3].
+    rim: f32,
+}
+
 // A fog hull (Boyd 2001): a closed mesh filled with homogeneous fog, drawn by the
 // hull_thickness pass and composited by hull_composite (see volfog::hull).
 struct FogHull {

@@ -23,17 +23,23 @@
 //! ```
 
 mod bytes;
+mod clouds;
 mod fog_volume;
 mod frame;
+pub(crate) mod frustum;
 pub(crate) mod froxels;
 mod height_fog;
 mod hull;
 mod lighting;
 mod medium;
 mod shadow;
+mod sky;
 mod water;
 
 pub use bytes::{to_storage_bytes, to_uniform_bytes};
+pub use clouds::CloudLayer;
+pub use frustum::FrustumRays;
+pub use sky::SkyAtmosphere;
 pub use fog_volume::FogVolume;
 pub use frame::{FogFrame, FogView, HistoryState};
 pub use froxels::Froxels;

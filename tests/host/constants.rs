@@ -149,6 +149,22 @@ fn module_constants_match_their_rust_twins() {
             )],
         ),
         (
+            "volfog::sky",
+            &[
+                ("SKY_TEXTURE_WIDTH", cpu::sky::SKY_TEXTURE_WIDTH as f64),
+                ("SKY_TEXTURE_HEIGHT", cpu::sky::SKY_TEXTURE_HEIGHT as f64),
+                ("SKY_PI", cpu::sky::SKY_PI as f64),
+                ("SKY_OPAQUE", cpu::sky::SKY_OPAQUE as f64),
+            ],
+        ),
+        (
+            "volfog::clouds",
+            &[
+                ("CLOUD_MIN_SUN_HEIGHT", cpu::clouds::CLOUD_MIN_SUN_HEIGHT as f64),
+                ("CLOUD_MAX_DISTANCE", cpu::clouds::CLOUD_MAX_DISTANCE as f64),
+            ],
+        ),
+        (
             "volfog::water",
             &[(
                 "WATER_MIN_SHORE_FADE",

@@ -56,6 +56,11 @@ impl Marker for [Mat4; 4] {
         })
     }
 }
+impl Marker for [Vec4; 4] {
+    fn marker() -> Self {
+        std::array::from_fn(|k| Vec4::from_array(std::array::from_fn(|i| 300.0 + (4 * k + i) as f32)))
+    }
+}
 impl Marker for uniforms::DirectionalLight {
     fn marker() -> Self {
         uniforms::DirectionalLight {
@@ -136,6 +141,42 @@ fn rust_layouts() -> BTreeMap<&'static str, Measured> {
             g: f32,
             attenuation: Vec3,
             shore_fade: f32,
+        }),
+        measure!(SkyAtmosphere {
+            sun_direction: Vec3,
+            planet_radius: f32,
+            rayleigh: Vec3,
+            atmosphere_radius: f32,
+            sun_intensity: Vec3,
+            camera_height: f32,
+            rayleigh_height: f32,
+            mie: f32,
+            mie_height: f32,
+            mie_extinction_ratio: f32,
+            mie_g: f32,
+            view_samples: u32,
+            light_samples: u32,
+            first_row: u32,
+        }),
+        measure!(FrustumRays {
+            corners: [Vec4; 4],
+            camera: Vec4,
+            depth_terms: Vec4,
+        }),
+        measure!(CloudLayer {
+            sun_direction: Vec3,
+            base_height: f32,
+            sun_color: Vec3,
+            thickness: f32,
+            sky_color: Vec3,
+            extinction: f32,
+            wind: Vec2,
+            map_size: f32,
+            time: f32,
+            view_samples: u32,
+            sun_samples: u32,
+            g: f32,
+            rim: f32,
         }),
         measure!(FogFrame {
             world_from_view: Mat4,
@@ -288,6 +329,9 @@ fn uniform_structs_serialize_with_wgsl_member_names() {
         ("HeightFog", keys(HeightFog::default())),
         ("FogVolume", keys(FogVolume::default())),
         ("Water", keys(Water::default())),
+        ("SkyAtmosphere", keys(SkyAtmosphere::default())),
+        ("FrustumRays", keys(FrustumRays::default())),
+        ("CloudLayer", keys(CloudLayer::default())),
         ("FogFrame", keys(FogFrame::default())),
         ("HistoryState", keys(HistoryState::default())),
         ("FogView", keys(FogView::default())),
