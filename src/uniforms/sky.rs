@@ -73,8 +73,8 @@ impl SkyAtmosphere {
             mie_height: 1200.0,
             mie_extinction_ratio: 1.11,
             mie_g: 0.76,
-            view_samples: 64,
-            light_samples: 16,
+            view_samples: 128,
+            light_samples: 32,
             first_row: 0,
         }
         .validated()

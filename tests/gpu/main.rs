@@ -20,6 +20,7 @@ mod phase;
 mod pipeline;
 mod properties;
 mod scan;
+mod sky;
 mod soft_particles;
 mod temporal;
 mod transparent;
