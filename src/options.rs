@@ -114,6 +114,8 @@ pub struct InjectOptions {
     /// One froxel of each pair of slices injected per frame
     /// (`VOLFOG_INJECT_CHECKERBOARD`; `FogFrame::checkerboard` must then be 1).
     pub checkerboard: bool,
+    /// The sun term passes the cloud layer's shadow (`VOLFOG_INJECT_CLOUD_SHADOW`).
+    pub cloud_shadow: bool,
     /// fbm octaves (`VOLFOG_INJECT_NOISE_OCTAVES`), see
     /// [`limits::NOISE_OCTAVES`](crate::limits::NOISE_OCTAVES).
     pub noise_octaves: u32,
@@ -129,6 +131,7 @@ impl Default for InjectOptions {
             noise_texture: false,
             depth_cull: false,
             checkerboard: false,
+            cloud_shadow: false,
             noise_octaves: manifest::INJECT_NOISE_OCTAVES.default,
         }
     }
@@ -149,6 +152,9 @@ impl InjectOptions {
         }
         if self.density_texture {
             d.push("VOLFOG_INJECT_DENSITY_TEXTURE".to_string());
+        }
+        if self.cloud_shadow {
+            d.push("VOLFOG_INJECT_CLOUD_SHADOW".to_string());
         }
         if self.noise_texture {
             d.push("VOLFOG_INJECT_NOISE_TEXTURE".to_string());

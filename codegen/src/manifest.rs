@@ -319,6 +319,7 @@ pub const PASSES: &[PassSource] = &[
             Axis::Flag("VOLFOG_INJECT_JITTER"),
             Axis::Flag("VOLFOG_INJECT_TWO_COLOR_PHASE"),
             Axis::Flag("VOLFOG_INJECT_DENSITY_TEXTURE"),
+            Axis::Flag("VOLFOG_INJECT_CLOUD_SHADOW"),
             Axis::Together(&[
                 "VOLFOG_FROXEL_CULL",
                 "VOLFOG_INJECT_CHECKERBOARD",

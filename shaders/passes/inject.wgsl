@@ -26,6 +26,8 @@
 //  13  sampler, linear, repeat (VOLFOG_INJECT_NOISE_TEXTURE only)
 //  14  storage, read: array<u32>, the live blocks from froxel_cull_compact
 //      (VOLFOG_FROXEL_CULL only)
+//  15  uniform CloudLayer; 16 texture_2d<f32>: the cloud density map (red channel);
+//  17  sampler, linear, repeat (VOLFOG_INJECT_CLOUD_SHADOW only)
 // Lights and local volumes are culled per workgroup: those whose range or extent touches
 // the block's bounding sphere are gathered in workgroup memory (at most 64 lights; when
 // more than 64 local volumes touch a block, every volume is evaluated), so distant ones
@@ -42,6 +44,9 @@
 //                                   blocks without live froxels
 //   VOLFOG_INJECT_CHECKERBOARD      amortise over two frames (FogFrame.checkerboard = 1)
 //   VOLFOG_ESM_LOG_SPACE            the ESM holds log-space values (see volfog::esm)
+//   VOLFOG_INJECT_CLOUD_SHADOW      the sun term also passes the cloud layer
+//                                   (volfog::clouds::cloud_shadow): the fog carries
+//                                   the clouds' moving shadows
 
 #import volfog::types::{Froxels, FogFrame, FogMedium, FogLighting, ShadowCascades, FogLight, LocalVolume}
 #import volfog::froxel::{froxel_view_position, froxel_injected, froxel_block_unpack, FROXEL_BLOCK_X, FROXEL_BLOCK_Y, FROXEL_BLOCK_Z}
@@ -52,6 +57,10 @@
 #endif
 #import volfog::density::{medium_extinction, local_volume_density, local_volume_touches_sphere}
 #import volfog::esm::{esm_cascade, esm_shadow_cascade}
+#ifdef VOLFOG_INJECT_CLOUD_SHADOW
+#import volfog::types::CloudLayer
+#import volfog::clouds::cloud_shadow
+#endif
 #import volfog::lights::{light_touches_sphere, fog_light_inscatter, sun_inscatter, sun_inscatter_two_color, ambient_inscatter}
 
 @group(0) @binding(0) var<uniform> froxels: Froxels;
@@ -63,6 +72,11 @@
 @group(0) @binding(6) var<storage, read> lights: array<FogLight>;
 @group(0) @binding(7) var<storage, read> local_volumes: array<LocalVolume>;
 @group(0) @binding(8) var scattering: texture_storage_3d<rgba16float, write>;
+#ifdef VOLFOG_INJECT_CLOUD_SHADOW
+@group(0) @binding(15) var<uniform> cloud_shadow_layer: CloudLayer;
+@group(0) @binding(16) var cloud_shadow_map: texture_2d<f32>;
+@group(0) @binding(17) var cloud_shadow_sampler: sampler;
+#endif
 #ifdef VOLFOG_INJECT_DENSITY_TEXTURE
 @group(0) @binding(9) var density_texture: texture_3d<f32>;
 @group(0) @binding(10) var density_sampler: sampler;
@@ -156,6 +170,9 @@ fn froxel_scattering(id: vec3<u32>, tile_light_count: u32, tile_volume_count: u3
         shadow = esm_shadow_cascade(esm_array, shadow_cascades.light_from_world[cascade], cascade,
             shadow_cascades.exponent, world);
     }
+#ifdef VOLFOG_INJECT_CLOUD_SHADOW
+    shadow *= cloud_shadow(cloud_shadow_map, cloud_shadow_sampler, cloud_shadow_layer, world);
+#endif
 #ifdef VOLFOG_INJECT_TWO_COLOR_PHASE
     var light = sun_inscatter_two_color(fog_lighting.sun, shadow, view_dir);
 #else

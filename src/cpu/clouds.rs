@@ -100,7 +100,11 @@ pub fn cloud_slab(layer: &CloudLayer, eye: Vec3, dir: Vec3, max_distance: f32) -
     let top = layer.base_height + layer.thickness;
     if dir.y.abs() < 1e-6 {
         let inside = eye.y >= bottom && eye.y <= top;
-        return if inside { Vec2::new(0.0, far) } else { Vec2::new(1.0, 0.0) };
+        return if inside {
+            Vec2::new(0.0, far)
+        } else {
+            Vec2::new(1.0, 0.0)
+        };
     }
     let ta = (bottom - eye.y) / dir.y;
     let tb = (top - eye.y) / dir.y;
@@ -109,7 +113,13 @@ pub fn cloud_slab(layer: &CloudLayer, eye: Vec3, dir: Vec3, max_distance: f32) -
 
 /// Distance clouds along the unit `dir` from `eye` up to `max_distance`:
 /// `(in-scatter rgb, T)`.
-pub fn distance_clouds(map: &CloudMap, layer: &CloudLayer, eye: Vec3, dir: Vec3, max_distance: f32) -> Vec4 {
+pub fn distance_clouds(
+    map: &CloudMap,
+    layer: &CloudLayer,
+    eye: Vec3,
+    dir: Vec3,
+    max_distance: f32,
+) -> Vec4 {
     let t = cloud_slab(layer, eye, dir, max_distance);
     if t.y <= t.x {
         return CLOUD_NONE;
@@ -136,7 +146,9 @@ pub fn distance_clouds(map: &CloudMap, layer: &CloudLayer, eye: Vec3, dir: Vec3,
             sun_light = (-depth.min(80.0_f32)).exp();
         }
         let step_t = (-(sigma * ds).min(80.0)).exp();
-        inscatter += transmittance * (1.0 - step_t) * (layer.sun_color * (sun_light * lobe) + layer.sky_color);
+        inscatter += transmittance
+            * (1.0 - step_t)
+            * (layer.sun_color * (sun_light * lobe) + layer.sky_color);
         transmittance *= step_t;
     }
     inscatter.extend(transmittance)
@@ -144,7 +156,14 @@ pub fn distance_clouds(map: &CloudMap, layer: &CloudLayer, eye: Vec3, dir: Vec3,
 
 /// The cloud layer lit per pixel along the unit `dir` from `eye`, the scene
 /// `max_distance` along the ray: `(in-scatter rgb, T)`, soft-clipped at the scene.
-pub fn cloud_layer(map: &CloudMap, layer: &CloudLayer, eye: Vec3, dir: Vec3, max_distance: f32, map_texels: u32) -> Vec4 {
+pub fn cloud_layer(
+    map: &CloudMap,
+    layer: &CloudLayer,
+    eye: Vec3,
+    dir: Vec3,
+    max_distance: f32,
+    map_texels: u32,
+) -> Vec4 {
     let whole = cloud_slab(layer, eye, dir, CLOUD_MAX_DISTANCE);
     if whole.y <= whole.x {
         return CLOUD_NONE;
@@ -155,7 +174,10 @@ pub fn cloud_layer(map: &CloudMap, layer: &CloudLayer, eye: Vec3, dir: Vec3, max
     let m = cloud_density(map, layer, xz(p));
     let texel = layer.map_size.max(1e-6) / map_texels as f32;
     let d = |dx: f32, dz: f32| cloud_density(map, layer, xz(p) + Vec2::new(dx, dz));
-    let grad = Vec2::new(d(texel, 0.0) - d(-texel, 0.0), d(0.0, texel) - d(0.0, -texel)) / (2.0 * texel);
+    let grad = Vec2::new(
+        d(texel, 0.0) - d(-texel, 0.0),
+        d(0.0, texel) - d(0.0, -texel),
+    ) / (2.0 * texel);
     let normal = Vec3::new(-grad.x * layer.thickness, 1.0, -grad.y * layer.thickness).normalize();
     let sun = layer.sun_direction;
     let diffuse = 0.5 + 0.5 * normal.dot(sun);

@@ -4,6 +4,7 @@
 
 use glam::{UVec3, Vec3, Vec4};
 
+use super::clouds::{CloudMap, cloud_shadow};
 use super::density::{local_volume_density, medium_extinction};
 use super::esm::{Layer, esm_shadow};
 use super::froxel::froxel_view_position;
@@ -13,7 +14,7 @@ use super::lights::{
 use super::noise::{noise_animated, noise_animated_texture};
 use crate::options::InjectOptions;
 use crate::uniforms::{
-    FogFrame, FogLight, FogLighting, FogMedium, Froxels, LocalVolume, ShadowCascades,
+    CloudLayer, FogFrame, FogLight, FogLighting, FogMedium, Froxels, LocalVolume, ShadowCascades,
 };
 
 /// Everything the inject pass reads.
@@ -43,6 +44,9 @@ pub struct InjectInputs<'a> {
     /// [`bake_noise_texture`](super::noise::bake_noise_texture)); `None` evaluates the
     /// procedural noise.
     pub noise_texture: Option<&'a DensityTexture>,
+    /// The cloud layer and its map (`VOLFOG_INJECT_CLOUD_SHADOW`); `None` casts no
+    /// shadow.
+    pub clouds: Option<(&'a CloudMap, &'a CloudLayer)>,
 }
 
 /// A 3D density texture (r channel) sampled trilinearly with repeat addressing, as the
@@ -157,6 +161,10 @@ pub fn froxel_scattering(inputs: &InjectInputs<'_>, id: UVec3) -> Vec4 {
         view_depth,
         inputs.options.esm_log_space,
     );
+    let shadow = match (inputs.options.cloud_shadow, inputs.clouds) {
+        (true, Some((map, layer))) => shadow * cloud_shadow(map, layer, world),
+        _ => shadow,
+    };
     let l = inputs.lighting;
     let mut light = if inputs.options.two_color_phase {
         sun_inscatter_two_color(&l.sun, shadow, view_dir)

@@ -6,8 +6,8 @@
 
 pub mod ambient;
 pub mod apply;
-pub mod density;
 pub mod clouds;
+pub mod density;
 pub mod esm;
 pub mod fog_volume;
 pub mod froxel;

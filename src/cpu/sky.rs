@@ -138,7 +138,11 @@ pub fn sky_single_scattering(atmosphere: &SkyAtmosphere, view_dir: Vec3) -> SkyS
 }
 
 /// Radiance of the sky: `I_s (R F_Rayleigh + M F_Cornette-Shanks(g))`.
-pub fn sky_radiance(scattering: &SkyScattering, cos_theta: f32, atmosphere: &SkyAtmosphere) -> Vec3 {
+pub fn sky_radiance(
+    scattering: &SkyScattering,
+    cos_theta: f32,
+    atmosphere: &SkyAtmosphere,
+) -> Vec3 {
     let c = cos_theta.clamp(-1.0, 1.0);
     let g = atmosphere.mie_g.clamp(0.0, 0.999);
     atmosphere.sun_intensity
@@ -165,7 +169,10 @@ pub fn sky_texture_uv(dir: Vec3) -> Vec2 {
         azimuth += 2.0 * SKY_PI;
     }
     let elevation = dir.y.clamp(0.0, 1.0).asin();
-    Vec2::new(azimuth / (2.0 * SKY_PI), (elevation / (0.5 * SKY_PI)).sqrt())
+    Vec2::new(
+        azimuth / (2.0 * SKY_PI),
+        (elevation / (0.5 * SKY_PI)).sqrt(),
+    )
 }
 
 /// The sky's scattering averaged along the horizon (row 0 of the texture's

@@ -45,6 +45,9 @@ pub struct InjectResources<'a> {
     /// The baked noise texture and its linear, repeat sampler (required by the
     /// noise-texture variant).
     pub noise_texture: Option<(&'a wgpu::TextureView, &'a wgpu::Sampler)>,
+    /// The `CloudLayer` uniform, the cloud density map and its linear, repeat sampler
+    /// (required by the cloud-shadow variant).
+    pub cloud_shadow: Option<(&'a wgpu::Buffer, &'a wgpu::TextureView, &'a wgpu::Sampler)>,
 }
 
 /// The compiled inject pass.
@@ -90,6 +93,11 @@ impl InjectPass {
         if options.noise_texture {
             entries.push(texture_entry(12, c, wgpu::TextureViewDimension::D3, true));
             entries.push(sampler_entry(13, c, true));
+        }
+        if options.cloud_shadow {
+            entries.push(uniform_entry(15, c));
+            entries.push(texture_entry(16, c, wgpu::TextureViewDimension::D2, true));
+            entries.push(sampler_entry(17, c, true));
         }
         entries
     }
@@ -154,6 +162,17 @@ impl InjectPass {
             })?;
             resources.push((12, wgpu::BindingResource::TextureView(view)));
             resources.push((13, wgpu::BindingResource::Sampler(sampler)));
+        }
+        if self.options.cloud_shadow {
+            let (layer, map, sampler) = r.cloud_shadow.ok_or_else(|| {
+                missing(
+                    "InjectResources.cloud_shadow",
+                    "the cloud layer, its map and its sampler",
+                )
+            })?;
+            resources.push((15, layer.as_entire_binding()));
+            resources.push((16, wgpu::BindingResource::TextureView(map)));
+            resources.push((17, wgpu::BindingResource::Sampler(sampler)));
         }
         Ok(bind_group(
             device,

@@ -4,9 +4,11 @@
 //!
 //! Passes: [`esm`] (shadow map -> filtered ESM), [`inject`] (density and lighting),
 //! [`temporal`] (reprojection), [`scan`] (front-to-back integration), [`apply`] (the
-//! fog group, and the fullscreen apply), [`hull`] (Boyd's fog hulls).
+//! fog group, and the fullscreen apply), [`hull`] (Boyd's fog hulls), [`sky`] (the sky
+//! light) and [`clouds`] (cloud shadows, distance clouds, the lit cloud layer).
 
 pub mod apply;
+pub mod clouds;
 pub mod cull;
 pub mod esm;
 mod fog;
@@ -14,6 +16,7 @@ pub mod hull;
 pub mod inject;
 pub mod noise;
 pub mod scan;
+pub mod sky;
 pub mod temporal;
 mod timestamps;
 

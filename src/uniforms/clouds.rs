@@ -84,7 +84,13 @@ impl CloudLayer {
 
     /// Lights the layer: the sun's direction, its scattered radiance, the sky's, and
     /// the HG mean cosine of the sun lobe.
-    pub fn with_sun(self, direction: Vec3, sun_color: Vec3, sky_color: Vec3, g: f32) -> Result<Self, InvalidValue> {
+    pub fn with_sun(
+        self,
+        direction: Vec3,
+        sun_color: Vec3,
+        sky_color: Vec3,
+        g: f32,
+    ) -> Result<Self, InvalidValue> {
         Self {
             sun_direction: direction,
             sun_color,
@@ -104,9 +110,17 @@ impl CloudLayer {
     pub fn validated(self) -> Result<Self, InvalidValue> {
         check_unit("CloudLayer.sun_direction", self.sun_direction)?;
         limits::FOG_POSITION.check("CloudLayer.base_height", self.base_height)?;
-        check_channels("CloudLayer.sun_color", self.sun_color, &limits::FOG_RADIANCE)?;
+        check_channels(
+            "CloudLayer.sun_color",
+            self.sun_color,
+            &limits::FOG_RADIANCE,
+        )?;
         limits::CLOUD_THICKNESS.check("CloudLayer.thickness", self.thickness)?;
-        check_channels("CloudLayer.sky_color", self.sky_color, &limits::FOG_RADIANCE)?;
+        check_channels(
+            "CloudLayer.sky_color",
+            self.sky_color,
+            &limits::FOG_RADIANCE,
+        )?;
         limits::CLOUD_EXTINCTION.check("CloudLayer.extinction", self.extinction)?;
         check(
             self.wind.is_finite() && self.wind.abs().max_element() <= 1e4,
@@ -115,7 +129,12 @@ impl CloudLayer {
             "a finite wind within +-1e4 m/s",
         )?;
         limits::CLOUD_MAP_SIZE.check("CloudLayer.map_size", self.map_size)?;
-        check(self.time.is_finite() && self.time.abs() <= 1e7, "CloudLayer.time", self.time, "a finite time within +-1e7 s")?;
+        check(
+            self.time.is_finite() && self.time.abs() <= 1e7,
+            "CloudLayer.time",
+            self.time,
+            "a finite time within +-1e7 s",
+        )?;
         limits::CLOUD_SAMPLES.check("CloudLayer.view_samples", self.view_samples)?;
         limits::CLOUD_SAMPLES.check("CloudLayer.sun_samples", self.sun_samples)?;
         limits::FOG_SUN_G.check("CloudLayer.g", self.g)?;

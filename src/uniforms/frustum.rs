@@ -46,7 +46,8 @@ impl FrustumRays {
         let (z, w) = (view_from_clip.row(2), view_from_clip.row(3));
         check(
             view_from_clip.is_finite()
-                && z.x.abs() + z.y.abs() + w.x.abs() + w.y.abs() <= 1e-6 * (z.abs().max_element() + w.abs().max_element())
+                && z.x.abs() + z.y.abs() + w.x.abs() + w.y.abs()
+                    <= 1e-6 * (z.abs().max_element() + w.abs().max_element())
                 && w.z != 0.0,
             "FrustumRays.clip_from_view",
             clip_from_view,
@@ -62,7 +63,12 @@ impl FrustumRays {
             world_from_view.transform_vector3(p / p.z.abs()).extend(0.0)
         };
         Ok(Self {
-            corners: [corner(0.0, 0.0), corner(1.0, 0.0), corner(0.0, 1.0), corner(1.0, 1.0)],
+            corners: [
+                corner(0.0, 0.0),
+                corner(1.0, 0.0),
+                corner(0.0, 1.0),
+                corner(1.0, 1.0),
+            ],
             camera: world_from_view.w_axis.truncate().extend(1.0),
             depth_terms: Vec4::new(z.z * forward, z.w * forward, w.z, w.w),
         })

@@ -26,8 +26,8 @@ mod bytes;
 mod clouds;
 mod fog_volume;
 mod frame;
-pub(crate) mod frustum;
 pub(crate) mod froxels;
+pub(crate) mod frustum;
 mod height_fog;
 mod hull;
 mod lighting;
@@ -38,16 +38,16 @@ mod water;
 
 pub use bytes::{to_storage_bytes, to_uniform_bytes};
 pub use clouds::CloudLayer;
-pub use frustum::FrustumRays;
-pub use sky::SkyAtmosphere;
 pub use fog_volume::FogVolume;
 pub use frame::{FogFrame, FogView, HistoryState};
 pub use froxels::Froxels;
+pub use frustum::FrustumRays;
 pub use height_fog::HeightFog;
 pub use hull::FogHull;
 pub use lighting::{DirectionalLight, FogLight, FogLighting};
 pub use medium::{FogMedium, LocalVolume, VolumeShape};
 pub use shadow::ShadowCascades;
+pub use sky::SkyAtmosphere;
 pub use water::Water;
 
 use glam::Vec3;

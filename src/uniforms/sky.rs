@@ -91,8 +91,16 @@ impl SkyAtmosphere {
             self.atmosphere_radius,
             "above planet_radius, at most twice it",
         )?;
-        check_channels("SkyAtmosphere.rayleigh", self.rayleigh, &limits::SKY_SCATTERING)?;
-        check_channels("SkyAtmosphere.sun_intensity", self.sun_intensity, &limits::FOG_RADIANCE)?;
+        check_channels(
+            "SkyAtmosphere.rayleigh",
+            self.rayleigh,
+            &limits::SKY_SCATTERING,
+        )?;
+        check_channels(
+            "SkyAtmosphere.sun_intensity",
+            self.sun_intensity,
+            &limits::FOG_RADIANCE,
+        )?;
         check(
             self.camera_height >= 0.0
                 && self.camera_height < self.atmosphere_radius - self.planet_radius,
@@ -103,8 +111,10 @@ impl SkyAtmosphere {
         limits::SKY_SCALE_HEIGHT.check("SkyAtmosphere.rayleigh_height", self.rayleigh_height)?;
         limits::SKY_SCATTERING.check("SkyAtmosphere.mie", self.mie)?;
         limits::SKY_SCALE_HEIGHT.check("SkyAtmosphere.mie_height", self.mie_height)?;
-        limits::SKY_MIE_EXTINCTION_RATIO
-            .check("SkyAtmosphere.mie_extinction_ratio", self.mie_extinction_ratio)?;
+        limits::SKY_MIE_EXTINCTION_RATIO.check(
+            "SkyAtmosphere.mie_extinction_ratio",
+            self.mie_extinction_ratio,
+        )?;
         limits::SKY_MIE_G.check("SkyAtmosphere.mie_g", self.mie_g)?;
         limits::SKY_SAMPLES.check("SkyAtmosphere.view_samples", self.view_samples)?;
         limits::SKY_SAMPLES.check("SkyAtmosphere.light_samples", self.light_samples)?;

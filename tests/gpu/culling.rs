@@ -564,6 +564,7 @@ fn checkerboard_inject_writes_this_frames_live_froxels_only() {
         options: config.inject_options(),
         density_texture: None,
         noise_texture: Some(&noise),
+        clouds: None,
     };
     let size = config.volume_size;
     let (mut written, mut kept, mut worst) = (0, 0, 0.0f32);

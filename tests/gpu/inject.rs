@@ -76,6 +76,7 @@ fn inject_matches_cpu_mirror_for_a_full_scene() {
             options: config.inject_options(),
             density_texture: None,
             noise_texture: None,
+            clouds: None,
         };
         let size = config.volume_size;
         let mut worst = 0.0f32;
@@ -602,6 +603,7 @@ fn density_texture_variant_matches_cpu_mirror() {
         options: config.inject_options(),
         density_texture: Some(&reference),
         noise_texture: None,
+        clouds: None,
     };
     let s = config.volume_size;
     let (mut worst, mut lo, mut hi) = (0.0f32, f32::MAX, 0.0f32);

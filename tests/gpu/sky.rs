@@ -78,7 +78,13 @@ fn simpson(length: f64, n: usize, mut f: impl FnMut(f64) -> DVec3) -> DVec3 {
     let mut sum = DVec3::ZERO;
     for k in 0..=n {
         let x = k as f64 * h;
-        let w = if k == 0 || k == n { 1.0 } else if k % 2 == 1 { 4.0 } else { 2.0 };
+        let w = if k == 0 || k == n {
+            1.0
+        } else if k % 2 == 1 {
+            4.0
+        } else {
+            2.0
+        };
         sum += f(length * x * x) * (2.0 * length * x) * w;
     }
     sum * (h / 3.0)
@@ -160,7 +166,16 @@ fn sky_matches_cpu_and_an_f64_integration_of_eq_1() {
     let mut cases = Vec::new();
     for sun_elevation in [60.0f32, 20.0, 3.0] {
         let a = SkyAtmosphere::earth(sun(sun_elevation)).unwrap();
-        for (e, az) in [(90.0, 0.0), (45.0, 0.0), (10.0, 0.0), (2.0, 0.0), (0.2, 0.0), (10.0, 90.0), (2.0, 180.0), (30.0, 135.0)] {
+        for (e, az) in [
+            (90.0, 0.0),
+            (45.0, 0.0),
+            (10.0, 0.0),
+            (2.0, 0.0),
+            (0.2, 0.0),
+            (10.0, 90.0),
+            (2.0, 180.0),
+            (30.0, 135.0),
+        ] {
             cases.push((a, dir(e, az)));
         }
     }
@@ -178,7 +193,10 @@ fn sky_matches_cpu_and_an_f64_integration_of_eq_1() {
         let (r, m) = reference(a, *d);
         for (x, y, name) in [(g.rayleigh, r, "Rayleigh"), (g.mie, m, "Mie")] {
             let e = ((x.as_dvec3() - y).abs() / y.abs()).max_element();
-            eprintln!("sun {:>4.1} deg, view {d:.3}: {name} gpu {x:.4} f64 {y:.4} rel {e:.2e}", a.sun_direction.y.asin().to_degrees());
+            eprintln!(
+                "sun {:>4.1} deg, view {d:.3}: {name} gpu {x:.4} f64 {y:.4} rel {e:.2e}",
+                a.sun_direction.y.asin().to_degrees()
+            );
             worst_ref = worst_ref.max(e);
         }
     }

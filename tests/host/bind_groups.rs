@@ -4,7 +4,7 @@
 //! type, and a visibility that includes every stage that uses it.
 
 use volfog::options::{CULL_DEFINE, Filtering, InjectOptions};
-use volfog::pipeline::{apply, cull, esm, hull, inject, noise, scan, temporal};
+use volfog::pipeline::{apply, clouds, cull, esm, hull, inject, noise, scan, sky, temporal};
 use volfog_codegen::Stage;
 use volfog_codegen::reflect::Resource;
 use volfog_codegen::translate::VariantOutput;
@@ -209,6 +209,7 @@ fn runtime_layouts_match_the_shaders() {
             noise_texture: v.defines.contains(&"VOLFOG_INJECT_NOISE_TEXTURE"),
             depth_cull: v.defines.contains(&CULL_DEFINE),
             checkerboard: v.defines.contains(&"VOLFOG_INJECT_CHECKERBOARD"),
+            cloud_shadow: v.defines.contains(&"VOLFOG_INJECT_CLOUD_SHADOW"),
             ..InjectOptions::default()
         };
         checked += check(
@@ -219,6 +220,8 @@ fn runtime_layouts_match_the_shaders() {
     for (name, filtering) in [
         ("apply@default", Filtering::Sampler),
         ("apply@BINDINGS_NO_SAMPLER", Filtering::Manual),
+        ("apply@APPLY_RESOLVED", Filtering::Sampler),
+        ("apply@APPLY_RESOLVED+BINDINGS_NO_SAMPLER", Filtering::Manual),
     ] {
         let groups = [
             (
@@ -237,6 +240,22 @@ fn runtime_layouts_match_the_shaders() {
     checked += check(
         "hull_composite@default",
         &[(0, hull::HullCompositePass::layout_entries().to_vec())],
+    );
+    checked += check(
+        "sky_solve@default",
+        &[(0, sky::SkyLight::solve_layout_entries().to_vec())],
+    );
+    checked += check(
+        "sky_horizon@default",
+        &[(0, sky::SkyLight::horizon_layout_entries().to_vec())],
+    );
+    checked += check(
+        "sky_draw@default",
+        &[(0, sky::SkyLight::draw_layout_entries().to_vec())],
+    );
+    checked += check(
+        "clouds@default",
+        &[(0, clouds::CloudPasses::layout_entries().to_vec())],
     );
     eprintln!("{checked} runtime layout entries match their shaders' bindings");
 }

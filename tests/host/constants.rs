@@ -160,7 +160,10 @@ fn module_constants_match_their_rust_twins() {
         (
             "volfog::clouds",
             &[
-                ("CLOUD_MIN_SUN_HEIGHT", cpu::clouds::CLOUD_MIN_SUN_HEIGHT as f64),
+                (
+                    "CLOUD_MIN_SUN_HEIGHT",
+                    cpu::clouds::CLOUD_MIN_SUN_HEIGHT as f64,
+                ),
                 ("CLOUD_MAX_DISTANCE", cpu::clouds::CLOUD_MAX_DISTANCE as f64),
             ],
         ),

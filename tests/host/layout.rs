@@ -58,7 +58,9 @@ impl Marker for [Mat4; 4] {
 }
 impl Marker for [Vec4; 4] {
     fn marker() -> Self {
-        std::array::from_fn(|k| Vec4::from_array(std::array::from_fn(|i| 300.0 + (4 * k + i) as f32)))
+        std::array::from_fn(|k| {
+            Vec4::from_array(std::array::from_fn(|i| 300.0 + (4 * k + i) as f32))
+        })
     }
 }
 impl Marker for uniforms::DirectionalLight {

@@ -47,6 +47,12 @@ pub struct FogConfig {
     /// Multiply the density by a 3D texture (see
     /// [`VolumetricFog::set_density_texture`](super::VolumetricFog::set_density_texture)).
     pub density_texture: bool,
+    /// Pass the sun's light in the fog through a cloud layer's shadow
+    /// (`VOLFOG_INJECT_CLOUD_SHADOW`): the layer comes with each frame
+    /// ([`FrameInputs::clouds`](super::FrameInputs::clouds)), its density map from
+    /// [`VolumetricFog::set_cloud_map`](super::VolumetricFog::set_cloud_map) (without
+    /// one the map is empty and nothing is shadowed).
+    pub cloud_shadow: bool,
     /// Skip the froxels behind the farthest opaque surface of their screen tile in
     /// inject, temporal and scan (`VOLFOG_FROXEL_CULL`), once a scene depth is set
     /// ([`VolumetricFog::set_scene_depth`](super::VolumetricFog::set_scene_depth));
@@ -89,6 +95,7 @@ impl Default for FogConfig {
             two_color_phase: inject.two_color_phase,
             noise_octaves: inject.noise_octaves,
             density_texture: inject.density_texture,
+            cloud_shadow: inject.cloud_shadow,
             depth_cull: true,
             amortize: false,
             noise_texture: inject.noise_texture,
@@ -140,6 +147,7 @@ impl FogConfig {
             noise_texture: self.noise_texture,
             depth_cull: self.depth_cull,
             checkerboard: self.amortize,
+            cloud_shadow: self.cloud_shadow,
             noise_octaves: self.noise_octaves,
         }
     }

@@ -8,8 +8,8 @@ use crate::cpu::ambient::AmbientSh;
 use crate::cpu::froxel::froxel_jitter;
 use crate::limits::{InvalidValue, check};
 use crate::uniforms::{
-    DirectionalLight, FogFrame, FogLight, FogLighting, FogMedium, FogView, Froxels, HeightFog,
-    LocalVolume, ShadowCascades,
+    CloudLayer, DirectionalLight, FogFrame, FogLight, FogLighting, FogMedium, FogView, Froxels,
+    HeightFog, LocalVolume, ShadowCascades,
 };
 
 /// The uniforms one frame's inputs become: what
@@ -62,6 +62,9 @@ pub struct FrameInputs<'a> {
     /// Analytic height fog continuing beyond the far plane when applying (world
     /// space; see [`HeightFog::from_medium`]); [`HeightFog::none`] for none.
     pub tail: HeightFog,
+    /// The cloud layer whose shadow the sun's light passes in the fog
+    /// (`FogConfig::cloud_shadow`; ignored otherwise). The default has no extinction.
+    pub clouds: CloudLayer,
 }
 
 impl FrameInputs<'_> {
@@ -80,6 +83,7 @@ impl FrameInputs<'_> {
             cascades: ShadowCascades::default(),
             reset_history: false,
             tail: HeightFog::none(),
+            clouds: CloudLayer::new(2000.0, 500.0, 0.0, 1.0e4).expect("a valid empty layer"),
         }
     }
 
@@ -100,6 +104,9 @@ impl FrameInputs<'_> {
         )?;
         self.medium.validate()?;
         self.sun.validate()?;
+        if config.cloud_shadow {
+            self.clouds.validated()?;
+        }
         check(
             self.ambient.rgb.iter().all(|v| v.is_finite()),
             "FrameInputs.ambient",

@@ -57,12 +57,12 @@ use super::scan::ScanPass;
 use super::temporal::{TemporalPass, TemporalResources};
 use super::timestamps::TimestampPairs;
 use crate::uniforms::{
-    self, FogFrame, FogLight, FogLighting, FogMedium, FogView, Froxels, HeightFog, HistoryState,
-    LocalVolume, ShadowCascades,
+    self, CloudLayer, FogFrame, FogLight, FogLighting, FogMedium, FogView, Froxels, HeightFog,
+    HistoryState, LocalVolume, ShadowCascades,
 };
 use resources::{
-    array_view, check_density_texture, check_scene_depth, check_shadow_map, esm_texture,
-    storage_buffer, texture_bytes, uniform_buffer, volume_texture,
+    array_view, check_cloud_map, check_density_texture, check_scene_depth, check_shadow_map,
+    esm_texture, storage_buffer, texture_bytes, uniform_buffer, volume_texture,
 };
 
 /// The uniform and storage buffers of the fog.
@@ -153,6 +153,17 @@ struct Density {
     sampler: wgpu::Sampler,
 }
 
+/// The cloud shadow of the cloud-shadow variant: the layer's uniform and its density
+/// map (the user's, or an empty 1x1 map until one is set).
+#[derive(Debug)]
+struct CloudShadow {
+    layer: wgpu::Buffer,
+    map: wgpu::Texture,
+    user: bool,
+    empty_written: bool,
+    sampler: wgpu::Sampler,
+}
+
 /// Depth culling: the cull pass, the live-slice textures of both parities (the one of
 /// parity p is written with the history volume p), and the cull bind groups of the
 /// scene depth when one is set.
@@ -207,6 +218,7 @@ pub struct VolumetricFog {
     density: Option<Density>,
     culling: Option<Culling>,
     noise: Option<Noise>,
+    clouds: Option<CloudShadow>,
     /// Inject bind groups by frame parity (they differ in the live-slice texture).
     inject_groups: [wgpu::BindGroup; 2],
     scan_groups: [wgpu::BindGroup; 2],
@@ -344,6 +356,18 @@ impl VolumetricFog {
         } else {
             None
         };
+        let clouds = config.cloud_shadow.then(|| CloudShadow {
+            layer: device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("volfog cloud layer"),
+                size: uniforms::to_uniform_bytes(&CloudLayer::default()).len() as u64,
+                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            }),
+            map: empty_cloud_map(device),
+            user: false,
+            empty_written: false,
+            sampler: crate::pipeline::clouds::cloud_map_sampler(device),
+        });
         let inject_groups = [0, 1].map(|p| {
             inject_bind_group(
                 device,
@@ -355,6 +379,7 @@ impl VolumetricFog {
                     density: density.as_ref(),
                     culling: live_view(p).zip(live_blocks),
                     noise: noise.as_ref(),
+                    clouds: clouds.as_ref(),
                 },
             )
         });
@@ -398,6 +423,7 @@ impl VolumetricFog {
             density,
             culling,
             noise,
+            clouds,
             inject_groups,
             scan_groups,
             shadow_map: None,
@@ -431,6 +457,11 @@ impl VolumetricFog {
             && config.density_texture
         {
             next.set_density_texture(device, &density.texture)?;
+        }
+        if let Some(clouds) = self.clouds.as_ref().filter(|c| c.user)
+            && config.cloud_shadow
+        {
+            next.set_cloud_map(device, &clouds.map)?;
         }
         if let Some((texture, mip_level, _)) = self.culling.as_ref().and_then(|c| c.depth.as_ref())
             && config.depth_cull
@@ -503,10 +534,57 @@ impl VolumetricFog {
                     density: self.density.as_ref(),
                     culling: live(p),
                     noise: self.noise.as_ref(),
+                    clouds: self.clouds.as_ref(),
                 },
             )
         });
         Ok(())
+    }
+
+    /// Uses a 2D texture (red channel, filterable, `TEXTURE_BINDING` usage) as the
+    /// density map of the cloud layer whose shadow the sun's light passes in the fog;
+    /// needs `FogConfig::cloud_shadow`. The layer comes with each frame
+    /// ([`FrameInputs::clouds`]).
+    pub fn set_cloud_map(
+        &mut self,
+        device: &wgpu::Device,
+        texture: &wgpu::Texture,
+    ) -> Result<(), FogError> {
+        let Some(clouds) = self.clouds.as_mut() else {
+            return Err(FogError::Invalid(crate::limits::InvalidValue {
+                field: "FogConfig.cloud_shadow",
+                value: "false".to_string(),
+                expected: "true to use a cloud map".into(),
+            }));
+        };
+        check_cloud_map(texture, device)?;
+        clouds.map = texture.clone();
+        clouds.user = true;
+        self.rebuild_inject_groups(device);
+        Ok(())
+    }
+
+    fn rebuild_inject_groups(&mut self, device: &wgpu::Device) {
+        let live = |p: usize| {
+            self.culling
+                .as_ref()
+                .map(|c| (&c.views[p], &c.blocks.blocks))
+        };
+        self.inject_groups = [0, 1].map(|p| {
+            inject_bind_group(
+                device,
+                &self.inject,
+                &self.buffers,
+                &array_view(&self.esm_texture),
+                &view(&self.scattering),
+                InjectTextures {
+                    density: self.density.as_ref(),
+                    culling: live(p),
+                    noise: self.noise.as_ref(),
+                    clouds: self.clouds.as_ref(),
+                },
+            )
+        });
     }
 
     /// Culls froxels by the scene depth (needs `FogConfig::depth_cull`): every frame,
@@ -602,6 +680,13 @@ impl VolumetricFog {
         if let Some(density) = self.density.as_mut().filter(|d| !d.user && !d.unit_written) {
             write_unit_density(queue, &density.texture);
             density.unit_written = true;
+        }
+        if let Some(clouds) = self.clouds.as_mut() {
+            queue.write_buffer(&clouds.layer, 0, &inputs.clouds.to_bytes());
+            if !clouds.user && !clouds.empty_written {
+                write_texel(queue, &clouds.map, 0);
+                clouds.empty_written = true;
+            }
         }
         if let Some(c) = self
             .culling
@@ -871,6 +956,9 @@ impl VolumetricFog {
         if let Some(n) = &self.noise {
             textures.push(&n.texture);
         }
+        if let Some(c) = self.clouds.as_ref().filter(|c| !c.user) {
+            textures.push(&c.map);
+        }
         let mut buffers: Vec<&wgpu::Buffer> = self.buffers.all().to_vec();
         if let Some(c) = &self.culling {
             buffers.extend([&c.blocks.blocks, &c.blocks.dispatch]);
@@ -930,6 +1018,37 @@ fn unit_density_texture(device: &wgpu::Device) -> wgpu::Texture {
     })
 }
 
+fn empty_cloud_map(device: &wgpu::Device) -> wgpu::Texture {
+    device.create_texture(&wgpu::TextureDescriptor {
+        label: Some("volfog empty cloud map"),
+        size: wgpu::Extent3d {
+            width: 1,
+            height: 1,
+            depth_or_array_layers: 1,
+        },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format: wgpu::TextureFormat::R8Unorm,
+        usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
+        view_formats: &[],
+    })
+}
+
+/// Writes the one texel of a 1x1 R8Unorm texture.
+fn write_texel(queue: &wgpu::Queue, texture: &wgpu::Texture, value: u8) {
+    queue.write_texture(
+        texture.as_image_copy(),
+        &[value],
+        wgpu::TexelCopyBufferLayout {
+            offset: 0,
+            bytes_per_row: None,
+            rows_per_image: None,
+        },
+        texture.size(),
+    );
+}
+
 fn write_unit_density(queue: &wgpu::Queue, texture: &wgpu::Texture) {
     queue.write_texture(
         texture.as_image_copy(),
@@ -960,6 +1079,7 @@ struct InjectTextures<'a> {
     density: Option<&'a Density>,
     culling: Option<(&'a wgpu::TextureView, &'a wgpu::Buffer)>,
     noise: Option<&'a Noise>,
+    clouds: Option<&'a CloudShadow>,
 }
 
 fn inject_bind_group(
@@ -974,9 +1094,11 @@ fn inject_bind_group(
         density,
         culling,
         noise,
+        clouds,
     } = textures;
     let density_view = density.map(|d| view(&d.texture));
     let noise_view = noise.map(|n| view(&n.texture));
+    let cloud_view = clouds.map(|c| view(&c.map));
     inject
         .bind_group(
             device,
@@ -993,6 +1115,9 @@ fn inject_bind_group(
                 density_texture: density_view.as_ref().zip(density.map(|d| &d.sampler)),
                 culling,
                 noise_texture: noise_view.as_ref().zip(noise.map(|n| &n.sampler)),
+                cloud_shadow: clouds
+                    .zip(cloud_view.as_ref())
+                    .map(|(c, v)| (&c.layer, v, &c.sampler)),
             },
         )
         .expect("the fog binds every texture its inject variant reads")

@@ -188,13 +188,35 @@ pub(crate) fn check_density_texture(
     texture: &wgpu::Texture,
     device: &wgpu::Device,
 ) -> Result<(), FogError> {
-    const WHAT: &str = "the density texture";
-    if texture.dimension() != wgpu::TextureDimension::D3 {
+    check_filterable(
+        texture,
+        device,
+        "the density texture",
+        wgpu::TextureDimension::D3,
+    )
+}
+
+/// Checks a cloud density map: 2D, filterable on this device, usable as a texture
+/// binding (its r channel is the cloud density).
+pub(crate) fn check_cloud_map(
+    texture: &wgpu::Texture,
+    device: &wgpu::Device,
+) -> Result<(), FogError> {
+    check_filterable(texture, device, "the cloud map", wgpu::TextureDimension::D2)
+}
+
+fn check_filterable(
+    texture: &wgpu::Texture,
+    device: &wgpu::Device,
+    what: &'static str,
+    dimension: wgpu::TextureDimension,
+) -> Result<(), FogError> {
+    if texture.dimension() != dimension {
         return Err(mismatch(
-            WHAT,
+            what,
             "dimension",
             texture.dimension(),
-            "D3".into(),
+            format!("{dimension:?}"),
         ));
     }
     let filterable = texture
@@ -208,13 +230,13 @@ pub(crate) fn check_density_texture(
         );
     if !filterable {
         return Err(mismatch(
-            WHAT,
+            what,
             "format",
             texture.format(),
             "a filterable float format (e.g. R8Unorm, R16Float)".into(),
         ));
     }
-    check_texture_binding(WHAT, texture)
+    check_texture_binding(what, texture)
 }
 
 /// Formats of the scene depth the cull pass reads (as unfilterable float).
