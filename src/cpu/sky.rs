@@ -23,7 +23,7 @@ pub const SKY_TEXTURE_WIDTH: u32 = 128;
 /// Height of the sky texture (elevation, dense near the horizon).
 pub const SKY_TEXTURE_HEIGHT: u32 = 64;
 /// π as the shader writes it.
-pub const SKY_PI: f32 = 3.14159265358979;
+pub const SKY_PI: f32 = std::f32::consts::PI;
 /// Optical depth of a sun ray that the planet blocks.
 pub const SKY_OPAQUE: f32 = 1e9;
 

@@ -9,6 +9,7 @@ mod esm;
 mod far_plane_seam;
 mod fog_volume;
 mod forward_snippet;
+mod frustum;
 mod height_fog;
 mod hull;
 mod inject;

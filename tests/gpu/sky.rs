@@ -207,3 +207,284 @@ fn sky_matches_cpu_and_an_f64_integration_of_eq_1() {
     );
     assert!(worst_ref <= 1e-3, "{worst_ref}");
 }
+
+/// The sky_solve pass spread over four frames of 16 rows fills the texture with the
+/// CPU mirror's values (within rgba16float rounding), and sky_horizon averages the
+/// horizon row as the CPU does.
+#[test]
+fn sky_passes_match_cpu() {
+    use volfog::cpu::sky::{
+        SKY_TEXTURE_HEIGHT, SKY_TEXTURE_WIDTH, sky_horizon, sky_texel_direction,
+    };
+    use volfog::pipeline::sky::SkyLight;
+    use volfog::uniforms::FrustumRays;
+    let gpu = gpu();
+    let mut sky = SkyLight::new(&gpu.device, wgpu::TextureFormat::Rgba16Float).unwrap();
+    let atmosphere = SkyAtmosphere::earth(sun(20.0)).unwrap();
+    sky.set_atmosphere(atmosphere).unwrap();
+    let proj = glam::camera::rh::proj::directx::perspective(1.0, 1.5, 0.1, 100.0);
+    let rays = FrustumRays::new(glam::Mat4::IDENTITY, proj).unwrap();
+    for _ in 0..4 {
+        sky.prepare(&gpu.queue, &rays, 16).unwrap();
+        let mut encoder = gpu.device.create_command_encoder(&Default::default());
+        sky.encode_solve(&mut encoder);
+        sky.encode_horizon(&mut encoder);
+        gpu.queue.submit([encoder.finish()]);
+    }
+    let texels = gpu.read_texture_rgba16f(sky.texture()).unwrap();
+    let layer = (SKY_TEXTURE_WIDTH * SKY_TEXTURE_HEIGHT) as usize;
+    assert_eq!(texels.len(), 2 * layer);
+    let mut worst = 0.0f32;
+    for y in 0..SKY_TEXTURE_HEIGHT {
+        for x in 0..SKY_TEXTURE_WIDTH {
+            let want =
+                sky_single_scattering(&atmosphere, sky_texel_direction(glam::UVec2::new(x, y)));
+            let i = (y * SKY_TEXTURE_WIDTH + x) as usize;
+            for (got, want) in [
+                (texels[i].truncate(), want.rayleigh),
+                (texels[layer + i].truncate(), want.mie),
+            ] {
+                // rgba16float keeps 11 bits (4.9e-4 relative).
+                let e = ((got - want).abs() / want.abs().max(Vec3::splat(1e-4))).max_element();
+                worst = worst.max(e);
+                assert!(e <= 1e-3, "texel {x},{y}: {got} vs {want}");
+            }
+        }
+    }
+    let raw = gpu.read_buffer(sky.horizon_buffer()).unwrap();
+    let h: &[f32] = bytemuck::cast_slice(&raw);
+    let want = sky_horizon(&atmosphere);
+    let got_r = Vec3::from_slice(&h[0..3]);
+    let got_m = Vec3::from_slice(&h[4..7]);
+    let e = ((got_r - want.rayleigh).abs() / want.rayleigh)
+        .max((got_m - want.mie).abs() / want.mie)
+        .max_element();
+    eprintln!(
+        "sky_solve in 4 bands of 16 rows: {} texels vs cpu worst rel {worst:.1e} (bound 1e-3); \
+         sky_horizon vs cpu rel {e:.1e} (bound 1e-4)",
+        2 * layer
+    );
+    assert!(e <= 1e-4, "{got_r} {got_m} vs {want:?}");
+}
+
+fn chromaticity(c: Vec3) -> Vec3 {
+    c / (c.x + c.y + c.z)
+}
+
+/// Noon: the zenith is bluer than the horizon. Sunset: the horizon towards the sun is
+/// redder than the horizon away from it and than the zenith.
+#[test]
+fn sky_colours_follow_the_sun() {
+    let noon = SkyAtmosphere::earth(sun(60.0)).unwrap();
+    let sunset = SkyAtmosphere::earth(sun(2.0)).unwrap();
+    let cases = [
+        (noon, dir(90.0, 0.0)),
+        (noon, dir(1.0, 90.0)),
+        (sunset, dir(1.0, 0.0)),
+        (sunset, dir(1.0, 180.0)),
+        (sunset, dir(90.0, 0.0)),
+    ];
+    let got = gpu_sky(&cases);
+    let c: Vec<Vec3> = got.iter().map(|(_, r)| chromaticity(*r)).collect();
+    eprintln!(
+        "chromaticity (r, g, b): noon zenith {:.3}, noon horizon (90 deg from the sun) {:.3}; \
+         sunset horizon towards the sun {:.3}, away {:.3}, zenith {:.3}",
+        c[0], c[1], c[2], c[3], c[4]
+    );
+    assert!(c[0].z > c[1].z + 0.05, "noon: the zenith is bluer");
+    assert!(
+        c[2].x > c[3].x + 0.05 && c[2].x > c[4].x + 0.05,
+        "sunset: redder towards the sun"
+    );
+    assert!(c[2].x > c[2].z, "the sunset horizon is red before blue");
+}
+
+const SPOT_KERNEL: &str = r#"
+#import volfog::types::SkyAtmosphere
+#import volfog::sky::sky_sample
+
+struct Input { atmosphere: SkyAtmosphere, dirs: array<vec4<f32>> }
+@group(0) @binding(0) var<storage, read> input: Input;
+@group(0) @binding(1) var<storage, read_write> output: array<vec4<f32>>;
+@group(0) @binding(2) var sky: texture_2d_array<f32>;
+@group(0) @binding(3) var sky_sampler: sampler;
+
+@compute @workgroup_size(64)
+fn main(@builtin(global_invocation_id) id: vec3<u32>) {
+    let i = id.x;
+    if i >= arrayLength(&input.dirs) { return; }
+    output[i] = vec4<f32>(sky_sample(sky, sky_sampler, input.dirs[i].xyz, input.atmosphere), 0.0);
+}
+"#;
+
+/// Width (degrees) of the part of the peak of `values` at or above 90 % of its maximum,
+/// sampled every `step` degrees; the offset of the peak; the peak value.
+fn peak(values: &[f32], step: f32) -> (f32, f32, f32) {
+    let (peak_i, peak) =
+        values.iter().enumerate().fold(
+            (0, f32::MIN),
+            |(bi, bv), (i, v)| if *v > bv { (i, *v) } else { (bi, bv) },
+        );
+    let above = values.iter().filter(|v| **v >= 0.9 * peak).count();
+    (
+        above as f32 * step,
+        (peak_i as f32 - (values.len() / 2) as f32) * step,
+        peak,
+    )
+}
+
+/// The sun's spot, from the solved texture with the phase applied per pixel: its peak
+/// sits on the sun, and its height and width (at 90 % of the peak) are the analytic
+/// phase's on the CPU mirror's scattering at the sun; with the phase baked into the
+/// 128 x 64 texels the peak is lower and shifted.
+#[test]
+fn sun_spot_from_the_per_pixel_phase() {
+    use volfog::cpu::sky::{
+        SKY_TEXTURE_HEIGHT, SKY_TEXTURE_WIDTH, sky_texel_direction, sky_texture_uv,
+    };
+    use volfog::pipeline::sky::SkyLight;
+    use volfog::uniforms::FrustumRays;
+    let gpu = gpu();
+    let sun_dir = sun(25.0);
+    let atmosphere = SkyAtmosphere::earth(sun_dir).unwrap();
+    let mut sky = SkyLight::new(&gpu.device, wgpu::TextureFormat::Rgba16Float).unwrap();
+    sky.set_atmosphere(atmosphere).unwrap();
+    let proj = glam::camera::rh::proj::directx::perspective(1.0, 1.5, 0.1, 100.0);
+    sky.prepare(
+        &gpu.queue,
+        &FrustumRays::new(glam::Mat4::IDENTITY, proj).unwrap(),
+        64,
+    )
+    .unwrap();
+    let mut encoder = gpu.device.create_command_encoder(&Default::default());
+    sky.encode_solve(&mut encoder);
+    gpu.queue.submit([encoder.finish()]);
+    // An arc through the sun along its elevation, +-15 degrees of azimuth in 0.02 steps.
+    let step = 0.02f32;
+    let dirs: Vec<Vec3> = (-750..=750).map(|k| dir(25.0, k as f32 * step)).collect();
+    let mut input: Vec<u8> = atmosphere.to_bytes();
+    for d in &dirs {
+        input.extend_from_slice(bytemuck::cast_slice(&d.extend(0.0).to_array()));
+    }
+    let module = gpu.shader_from_naga("spot", common::compose(SPOT_KERNEL, &[]));
+    let out = gpu
+        .run_kernel_with(
+            &module,
+            "main",
+            &input,
+            (dirs.len() * 16) as u64,
+            dirs.len() as u32,
+            &[
+                wgpu::BindingResource::TextureView(sky.view()),
+                wgpu::BindingResource::Sampler(sky.sampler()),
+            ],
+        )
+        .unwrap();
+    let out: &[[f32; 4]] = bytemuck::cast_slice(&out);
+    let measured: Vec<f32> = out.iter().map(|v| v[0] + v[1] + v[2]).collect();
+    // The analytic spot: the scattering at the sun (CPU) with the exact phases.
+    let at_sun = sky_single_scattering(&atmosphere, sun_dir);
+    let analytic: Vec<f32> = dirs
+        .iter()
+        .map(|d| {
+            let c = d.dot(sun_dir);
+            let r = atmosphere.sun_intensity
+                * (at_sun.rayleigh * phase_rayleigh(c)
+                    + at_sun.mie * phase_cornette_shanks(c, atmosphere.mie_g));
+            r.x + r.y + r.z
+        })
+        .collect();
+    // The phase baked into the texels and filtered bilinearly, as a CPU-only sky would.
+    let baked: Vec<f32> = dirs
+        .iter()
+        .map(|d| {
+            let uv = sky_texture_uv(*d);
+            let x = uv.x * SKY_TEXTURE_WIDTH as f32 - 0.5;
+            let y = (uv.y * SKY_TEXTURE_HEIGHT as f32 - 0.5)
+                .clamp(0.0, SKY_TEXTURE_HEIGHT as f32 - 1.0);
+            let (x0, y0) = (x.floor(), y.floor());
+            let texel = |i: f32, j: f32| {
+                let t = glam::UVec2::new(
+                    (i as i32).rem_euclid(SKY_TEXTURE_WIDTH as i32) as u32,
+                    (j as u32).min(SKY_TEXTURE_HEIGHT - 1),
+                );
+                let td = sky_texel_direction(t);
+                let r = sky_radiance(
+                    &sky_single_scattering(&atmosphere, td),
+                    td.dot(sun_dir),
+                    &atmosphere,
+                );
+                r.x + r.y + r.z
+            };
+            let (fx, fy) = (x - x0, y - y0);
+            let top = texel(x0, y0) * (1.0 - fx) + texel(x0 + 1.0, y0) * fx;
+            let bottom = texel(x0, y0 + 1.0) * (1.0 - fx) + texel(x0 + 1.0, y0 + 1.0) * fx;
+            top * (1.0 - fy) + bottom * fy
+        })
+        .collect();
+    let (w_measured, offset, p_measured) = peak(&measured, step);
+    let (w_analytic, _, p_analytic) = peak(&analytic, step);
+    let (w_baked, offset_baked, p_baked) = peak(&baked, step);
+    eprintln!(
+        "sun spot (sun 25 deg up, Mie g 0.76): per-pixel phase peak {p_measured:.2} at \
+         {offset:+.2} deg, width at 90 % {w_measured:.2} deg; analytic {p_analytic:.2}, \
+         {w_analytic:.2} deg; phase baked into the texels {p_baked:.2} at {offset_baked:+.2} deg, \
+         {w_baked:.2} deg"
+    );
+    assert!(
+        offset.abs() <= 2.0 * step,
+        "the peak sits on the sun: {offset}"
+    );
+    assert!(
+        (w_measured - w_analytic).abs() <= 0.05 * w_analytic,
+        "{w_measured} vs {w_analytic}"
+    );
+    let (e_pixel, e_baked) = (
+        (p_measured - p_analytic).abs(),
+        (p_baked - p_analytic).abs(),
+    );
+    assert!(e_pixel <= 0.01 * p_analytic, "{p_measured} vs {p_analytic}");
+    assert!(
+        e_baked > 3.0 * e_pixel,
+        "baking the phase loses the spot: {p_baked}"
+    );
+}
+
+/// Suns below the horizon, on it and at the zenith, views straight up, down and along
+/// the horizon: finite, non-negative light.
+#[test]
+fn sky_is_finite_for_every_sun_and_view() {
+    let mut cases = Vec::new();
+    for s in [-30.0f32, -5.0, -0.5, 0.0, 0.5, 89.99] {
+        let mut a = SkyAtmosphere::earth(sun(s)).unwrap();
+        if s > 89.0 {
+            a.sun_direction = Vec3::Y;
+        }
+        for d in [
+            Vec3::Y,
+            -Vec3::Y,
+            Vec3::X,
+            Vec3::new(0.0, -0.01, -1.0).normalize(),
+            dir(0.0, 0.0),
+            dir(45.0, 180.0),
+        ] {
+            cases.push((a, d));
+        }
+    }
+    let got = gpu_sky(&cases);
+    for ((a, d), (s, r)) in cases.iter().zip(&got) {
+        for v in [s.rayleigh, s.mie, *r] {
+            assert!(
+                v.is_finite() && v.min_element() >= 0.0,
+                "sun {} view {d}: {v}",
+                a.sun_direction
+            );
+        }
+    }
+    // Deep night: no sun light anywhere in the sky.
+    let night = &got[0..6];
+    assert!(
+        night.iter().all(|(_, r)| r.max_element() < 1e-6),
+        "{night:?}"
+    );
+}

@@ -221,7 +221,10 @@ fn runtime_layouts_match_the_shaders() {
         ("apply@default", Filtering::Sampler),
         ("apply@BINDINGS_NO_SAMPLER", Filtering::Manual),
         ("apply@APPLY_RESOLVED", Filtering::Sampler),
-        ("apply@APPLY_RESOLVED+BINDINGS_NO_SAMPLER", Filtering::Manual),
+        (
+            "apply@APPLY_RESOLVED+BINDINGS_NO_SAMPLER",
+            Filtering::Manual,
+        ),
     ] {
         let groups = [
             (
