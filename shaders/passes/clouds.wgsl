@@ -6,7 +6,8 @@
 // no depth attachment). Blend colour: src * One + dst * SrcAlpha (add); alpha: src * Zero
 // + dst * One (add), as the apply pass. cloud_shadow_fs writes (0, T): the lit colour is
 // multiplied by the clouds' shadow; distance_clouds_fs and cloud_layer_fs write
-// (in-scatter, transmittance).
+// (in-scatter, transmittance). Pixels at or beyond the far plane are the sky: no
+// shadow, and the clouds in front of them unbounded.
 // Bindings (group 0):
 //   0  uniform FrustumRays        1  uniform CloudLayer
 //   2  texture_2d<f32>: the cloud density map (red channel, filterable)
@@ -14,7 +15,7 @@
 //   4  texture_2d<f32>, unfilterable: the scene depth buffer (textureLoad)
 
 #import volfog::types::{FrustumRays, CloudLayer}
-#import volfog::frustum::{frustum_vertex, frustum_view_depth, frustum_world_position}
+#import volfog::frustum::{frustum_vertex, frustum_view_depth, frustum_world_position, frustum_is_sky}
 #import volfog::clouds::{cloud_shadow, distance_clouds, cloud_layer}
 
 @group(0) @binding(0) var<uniform> frustum_rays: FrustumRays;
@@ -39,15 +40,20 @@ fn pixel_view_depth(frag: vec4<f32>) -> f32 {
     return frustum_view_depth(frustum_rays, textureLoad(cloud_scene_depth, vec2<i32>(frag.xy), 0).r);
 }
 
+// The sky (at or beyond the far plane) gets no shadow.
 @fragment
 fn cloud_shadow_fs(in: CloudVertex) -> @location(0) vec4<f32> {
-    let p = frustum_world_position(frustum_rays, in.ray, pixel_view_depth(in.clip));
-    return vec4<f32>(0.0, 0.0, 0.0, cloud_shadow(cloud_map, cloud_sampler, cloud_layer_params, p));
+    let depth = pixel_view_depth(in.clip);
+    let p = frustum_world_position(frustum_rays, in.ray, depth);
+    let shadow = cloud_shadow(cloud_map, cloud_sampler, cloud_layer_params, p);
+    return vec4<f32>(0.0, 0.0, 0.0, select(shadow, 1.0, frustum_is_sky(frustum_rays, depth)));
 }
 
-// The scene's distance along the unit view direction (the ray has view depth 1).
+// The scene's distance along the unit view direction (the ray has view depth 1); the
+// sky is infinitely far.
 fn scene_distance(in: CloudVertex) -> f32 {
-    return pixel_view_depth(in.clip) * length(in.ray);
+    let depth = pixel_view_depth(in.clip);
+    return select(depth * length(in.ray), 1e30, frustum_is_sky(frustum_rays, depth));
 }
 
 @fragment

@@ -51,6 +51,11 @@ fn frustum_view_depth(rays: FrustumRays, depth: f32) -> f32 {
     return min(-(t.x * depth + t.y) / select(w, 1e-30, abs(w) < 1e-30), 1e30);
 }
 
+// Is a pixel at this view depth the sky (at or beyond the far plane)?
+fn frustum_is_sky(rays: FrustumRays, view_depth: f32) -> bool {
+    return view_depth >= 0.9999 * rays.camera.w;
+}
+
 // World position of the pixel with ray `ray` (from frustum_vertex, interpolated) at
 // view depth view_depth: one multiply-add.
 fn frustum_world_position(rays: FrustumRays, ray: vec3<f32>, view_depth: f32) -> vec3<f32> {

@@ -284,7 +284,8 @@ struct FrustumRays {
     // World-space vectors from the camera to the points at view depth 1 m through the
     // corners uv (0, 0), (1, 0), (0, 1), (1, 1) (xyz; w 0).
     corners: array<vec4<f32>, 4>,
-    // Camera position in world space (xyz; w 1), m.
+    // Camera position in world space (xyz), m; w the view depth of the far plane (at
+    // most 1e30): depth-buffer values at or beyond it are the sky.
     camera: vec4<f32>,
     // View depth from a depth-buffer value d: -(x d + y) / (z d + w), the depth rows of
     // the inverse projection.

@@ -45,6 +45,11 @@ pub fn frustum_view_depth(rays: &FrustumRays, depth: f32) -> f32 {
     (-(t.x * depth + t.y) / w).min(1e30)
 }
 
+/// Is a pixel at this view depth the sky (at or beyond the far plane)?
+pub fn frustum_is_sky(rays: &FrustumRays, view_depth: f32) -> bool {
+    view_depth >= 0.9999 * rays.camera.w
+}
+
 /// World position of the pixel with `ray` at `view_depth`: one multiply-add.
 pub fn frustum_world_position(rays: &FrustumRays, ray: Vec3, view_depth: f32) -> Vec3 {
     rays.camera.truncate() + ray * view_depth

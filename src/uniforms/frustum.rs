@@ -26,7 +26,8 @@ use crate::limits::{InvalidValue, check};
 pub struct FrustumRays {
     /// World vectors to view depth 1 through the corners (xyz; w 0).
     pub corners: [Vec4; 4],
-    /// Camera position (xyz; w 1).
+    /// Camera position (xyz); w the view depth of the far plane (at most 1e30):
+    /// depth-buffer values at or beyond it are the sky.
     pub camera: Vec4,
     /// View depth from a depth value d: `-(x d + y) / (z d + w)`.
     pub depth_terms: Vec4,
@@ -62,6 +63,17 @@ impl FrustumRays {
             let p = p.truncate() / p.w;
             world_from_view.transform_vector3(p / p.z.abs()).extend(0.0)
         };
+        let depth_terms = Vec4::new(z.z * forward, z.w * forward, w.z, w.w);
+        let view_depth = |d: f32| {
+            let den = depth_terms.z * d + depth_terms.w;
+            if den.abs() < 1e-30 {
+                1e30
+            } else {
+                (-(depth_terms.x * d + depth_terms.y) / den).clamp(0.0, 1e30)
+            }
+        };
+        // The far plane sits at depth 1 (standard) or 0 (reversed): the deeper of the two.
+        let far = view_depth(0.0).max(view_depth(1.0));
         Ok(Self {
             corners: [
                 corner(0.0, 0.0),
@@ -69,8 +81,8 @@ impl FrustumRays {
                 corner(0.0, 1.0),
                 corner(1.0, 1.0),
             ],
-            camera: world_from_view.w_axis.truncate().extend(1.0),
-            depth_terms: Vec4::new(z.z * forward, z.w * forward, w.z, w.w),
+            camera: world_from_view.w_axis.truncate().extend(far),
+            depth_terms,
         })
     }
 
