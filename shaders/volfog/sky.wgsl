@@ -6,8 +6,9 @@
 //           #import volfog::sky::sky_sample
 //           let sky = sky_sample(sky_texture, sky_sampler, view_dir, atmosphere);
 //           Height fog that matches the sky at the horizon: sky_horizon averages the
-//           lowest row; sky_radiance(horizon, dot(view_dir, sun), atmosphere) is the
-//           fog's in-scattered colour (Wenzel: "average in-scattering samples along the
+//           lowest row; sky_height_fog(fog, horizon, atmosphere, origin, segment) is
+//           volfog::height_fog's density lit by sky_radiance(horizon, dot(view_dir,
+//           sun), atmosphere) (Wenzel: "average in-scattering samples along the
 //           horizon ... combine with the per-pixel phase function").
 // Defines:  none
 // Model:    Wenzel 2007, eq. 1: I_v = I_s K F(theta, g) int_Pa^Pb e^(-h / H)
@@ -33,8 +34,9 @@
 //           Light Rendering" (eq. 1); Nishita, Sirai, Tadamura & Nakamae 1993.
 #define_import_path volfog::sky
 
-#import volfog::types::SkyAtmosphere
+#import volfog::types::{SkyAtmosphere, HeightFog}
 #import volfog::phase::{phase_rayleigh, phase_cornette_shanks}
+#import volfog::height_fog::{height_fog_optical_depth, fog_inscatter, FOG_POSITION_LIMIT}
 
 const SKY_TEXTURE_WIDTH: u32 = 128u;
 const SKY_TEXTURE_HEIGHT: u32 = 64u;
@@ -178,4 +180,17 @@ fn sky_sample(sky: texture_2d_array<f32>, sky_sampler: sampler, dir: vec3<f32>, 
     let r = textureSampleLevel(sky, sky_sampler, uv, 0, 0.0).rgb;
     let m = textureSampleLevel(sky, sky_sampler, uv, 1, 0.0).rgb;
     return sky_radiance(SkyScattering(r, m), dot(dir, atmosphere.sun_direction), atmosphere);
+}
+
+// Height fog (the density of `fog`; its colours are not used) lit by the sky: the
+// in-scattered radiance is the horizon's average scattering (pass sky_horizon) with
+// the phase of the view direction, so dense fog takes the colour of the sky at the
+// horizon around it. vec4(in-scatter rgb, transmittance) along origin -> origin +
+// segment (m, world space).
+fn sky_height_fog(fog: HeightFog, horizon: SkyScattering, atmosphere: SkyAtmosphere,
+                  origin: vec3<f32>, segment: vec3<f32>) -> vec4<f32> {
+    let od = height_fog_optical_depth(fog.density, fog.falloff, fog.base_height, fog.up, origin, segment);
+    let d = clamp(segment, vec3<f32>(-FOG_POSITION_LIMIT), vec3<f32>(FOG_POSITION_LIMIT));
+    let view_dir = d / max(length(d), 1e-30);
+    return fog_inscatter(sky_radiance(horizon, dot(view_dir, atmosphere.sun_direction), atmosphere), od);
 }

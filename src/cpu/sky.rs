@@ -15,8 +15,10 @@
 
 use glam::{UVec2, Vec2, Vec3};
 
+use super::height_fog::{fog_inscatter, height_fog_optical_depth};
 use super::phase::{phase_cornette_shanks, phase_rayleigh};
-use crate::uniforms::SkyAtmosphere;
+use crate::limits::FOG_POSITION_LIMIT;
+use crate::uniforms::{HeightFog, SkyAtmosphere};
 
 /// Width of the sky texture (azimuth).
 pub const SKY_TEXTURE_WIDTH: u32 = 128;
@@ -190,4 +192,32 @@ pub fn sky_horizon(atmosphere: &SkyAtmosphere) -> SkyScattering {
         rayleigh: r / n as f32,
         mie: m / n as f32,
     }
+}
+
+/// Height fog (the density of `fog`) lit by the sky's horizon average `horizon` with
+/// the view's phase: `(in-scatter rgb, T)` along `origin -> origin + segment`.
+pub fn sky_height_fog(
+    fog: &HeightFog,
+    horizon: &SkyScattering,
+    atmosphere: &SkyAtmosphere,
+    origin: Vec3,
+    segment: Vec3,
+) -> glam::Vec4 {
+    let od = height_fog_optical_depth(
+        fog.density,
+        fog.falloff,
+        fog.base_height,
+        fog.up,
+        origin,
+        segment,
+    );
+    let d = segment.clamp(
+        Vec3::splat(-FOG_POSITION_LIMIT),
+        Vec3::splat(FOG_POSITION_LIMIT),
+    );
+    let view_dir = d / d.length().max(1e-30);
+    fog_inscatter(
+        sky_radiance(horizon, view_dir.dot(atmosphere.sun_direction), atmosphere),
+        od,
+    )
 }

@@ -407,7 +407,13 @@ fn cloud_shadow_pass_on_the_ground() {
     // Stripes 8 texels wide across x.
     let n = 32u32;
     let texels = (0..n * n)
-        .map(|i| if ((i % n) / 8).is_multiple_of(2) { 1.0 } else { 0.0 })
+        .map(|i| {
+            if ((i % n) / 8).is_multiple_of(2) {
+                1.0
+            } else {
+                0.0
+            }
+        })
         .collect();
     let map = CloudMap {
         width: n,
@@ -510,7 +516,13 @@ fn fog_carries_the_cloud_shadows() {
     };
     let n = 16u32;
     let texels = (0..n * n)
-        .map(|i| if ((i % n) / 4).is_multiple_of(2) { 1.0 } else { 0.0 })
+        .map(|i| {
+            if ((i % n) / 4).is_multiple_of(2) {
+                1.0
+            } else {
+                0.0
+            }
+        })
         .collect();
     let map = CloudMap {
         width: n,
