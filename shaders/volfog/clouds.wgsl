@@ -10,8 +10,8 @@
 // Defines:  none
 // Layer:    a horizontal slab from base_height to base_height + thickness (+Y up) of
 //           extinction layer.extinction * m(x, z), m the map's red channel in [0, 1] at
-//           uv = ((x, z) - wind * time) / map_size (sample with a linear, repeat
-//           sampler: the sky scrolls with the wind).
+//           uv = fract(((x, z) - wind * time) / map_size) (sample with a linear,
+//           repeat sampler: the sky scrolls with the wind).
 // Shadow:   the sun's ray from p crosses the slab over thickness / sun.y metres; its
 //           transmittance exp(-extinction m t / sun.y) takes m where that ray meets
 //           the slab's middle (one look-up, the seed's single fullscreen pass). 1 above
@@ -46,9 +46,11 @@ const CLOUD_MAX_DISTANCE: f32 = 1e5;
 // No clouds: no in-scattering, full transmittance.
 const CLOUD_NONE: vec4<f32> = vec4<f32>(0.0, 0.0, 0.0, 1.0);
 
-// Map coordinates of world (x, z), scrolled by the wind.
+// Map coordinates of world (x, z), scrolled by the wind, wrapped into [0, 1): the
+// repeat sampler gives the same value, and small coordinates keep the sampler's
+// sub-texel precision far from the origin.
 fn cloud_map_uv(layer: CloudLayer, xz: vec2<f32>) -> vec2<f32> {
-    return (xz - layer.wind * layer.time) / max(layer.map_size, 1e-6);
+    return fract((xz - layer.wind * layer.time) / max(layer.map_size, 1e-6));
 }
 
 // Map density in [0, 1] at world (x, z).

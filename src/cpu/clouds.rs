@@ -65,9 +65,10 @@ impl CloudMap {
     }
 }
 
-/// Map coordinates of world (x, z), scrolled by the wind.
+/// Map coordinates of world (x, z), scrolled by the wind, wrapped into [0, 1).
 pub fn cloud_map_uv(layer: &CloudLayer, xz: Vec2) -> Vec2 {
-    (xz - layer.wind * layer.time) / layer.map_size.max(1e-6)
+    let uv = (xz - layer.wind * layer.time) / layer.map_size.max(1e-6);
+    uv - uv.floor()
 }
 
 /// Map density in [0, 1] at world (x, z).

@@ -1,8 +1,11 @@
 //! `volfog demo`: renders the demo scene headless with the real `VolumetricFog`
 //! pipeline and writes PNGs.
 //!
-//! Per frame: shadow cascades (depth-only, one pass per layer) -> lit opaque pass and
-//! sky -> fog prepare/encode (froxel culling by this frame's depth buffer, ESM
+//! Once: the sky texture for the sun (`volfog::sky`, sky_solve). Per frame: shadow
+//! cascades (depth-only, one pass per layer) -> lit opaque pass and sky (sampled from
+//! the sky texture, the phase per pixel) -> the clouds' shadow on the lit scene and the
+//! distance clouds (`volfog::clouds`) -> fog prepare/encode (its sun term under the same
+//! cloud shadow) (froxel culling by this frame's depth buffer, ESM
 //! downsample, blur, inject, temporal, scan) -> fullscreen fog apply -> semi-transparent sphere fogged by the forward snippet ->
 //! tonemap. The camera moves along a short path so the temporal reprojection works on
 //! a moving view; the last frame is written as `DIR/demo.png`. The pool's water
@@ -25,10 +28,12 @@ use glam::{Mat4, UVec3, Vec3, Vec4};
 use serde_json::json;
 use volfog::limits::InvalidValue;
 use volfog::pipeline::apply::ApplyPipeline;
+use volfog::pipeline::clouds::{CloudDraw, CloudPasses};
+use volfog::pipeline::sky::SkyLight;
 use volfog::pipeline::{
     FogConfig, FogError, FrameInputs, PassTimings, VolumetricFog, cascade_splits,
 };
-use volfog::uniforms::ShadowCascades;
+use volfog::uniforms::{CloudLayer, FrustumRays, ShadowCascades};
 use volfog_testkit::{Gpu, GpuError};
 
 use render::{HDR_FORMAT, Renderer, SceneUniform};
@@ -139,6 +144,7 @@ fn fog_config(args: &DemoArgs, timestamps: bool) -> FogConfig {
         max_lights: 8,
         max_local_volumes: 4,
         noise_octaves: 2,
+        cloud_shadow: true,
         timestamps,
         ..FogConfig::default()
     }
@@ -226,6 +232,10 @@ fn check_args(args: &DemoArgs) -> Result<(), DemoError> {
 
 /// One frame's camera, scene uniform and shadow cascades.
 struct FrameSetup {
+    /// The camera's corner rays (the clouds' passes).
+    rays: FrustumRays,
+    /// The cloud layer at this frame's time.
+    clouds: CloudLayer,
     /// The froxel fog is applied fullscreen (false for the camera under water, whose
     /// view rays start in the water: the opaque pass fogs what lies beyond the
     /// surface with the medium's analytic height fog instead).
@@ -250,7 +260,13 @@ struct Demo<'a> {
     clip_from_view: Mat4,
     splits: Vec4,
     /// Copies of the HDR target before and after the apply (with `--probe`).
-    probe_textures: Option<[wgpu::Texture; 2]>,
+    probe_textures: Option<[wgpu::Texture; 3]>,
+    /// The sky light, solved once for the scene's sun.
+    sky: SkyLight,
+    /// The cloud passes (shadow on the lit scene, distance clouds), their map and bind
+    /// group.
+    clouds: CloudPasses,
+    cloud_group: wgpu::BindGroup,
 }
 
 impl<'a> Demo<'a> {
@@ -278,6 +294,9 @@ impl<'a> Demo<'a> {
         let scene = scene::build()?;
         let config = fog_config(args, timestamps);
         let mut fog = VolumetricFog::new(&gpu.device, &config)?;
+        let mut sky = SkyLight::new(&gpu.device, HDR_FORMAT)
+            .map_err(|e| DemoError::Pipeline(e.to_string()))?;
+        sky.set_atmosphere(scene.atmosphere)?;
         let renderer = gpu
             .checked(|| {
                 Renderer::new(
@@ -286,6 +305,7 @@ impl<'a> Demo<'a> {
                     args.height,
                     &scene,
                     &fog,
+                    &sky,
                     timestamps,
                 )
             })
@@ -295,11 +315,30 @@ impl<'a> Demo<'a> {
         // The opaque pass lays the depth out before the fog runs, so the fog culls the
         // froxels behind this frame's opaque surfaces.
         fog.set_scene_depth(&gpu.device, &renderer.depth, 0)?;
+        // The sky for the scene's (fixed) sun, solved once; the cloud map for the
+        // clouds' passes and for the fog's cloud shadow.
+        let aspect0 = args.width as f32 / args.height as f32;
+        let proj0 =
+            glam::camera::rh::proj::directx::perspective(FOV_Y.to_radians(), aspect0, NEAR, FAR);
+        sky.prepare(&gpu.queue, &FrustumRays::new(Mat4::IDENTITY, proj0)?, 64)?;
+        let mut encoder = gpu.device.create_command_encoder(&Default::default());
+        sky.encode_solve(&mut encoder);
+        gpu.queue.submit([encoder.finish()]);
+        let cloud_map = cloud_map_texture(&gpu, &scene.cloud_map);
+        fog.set_cloud_map(&gpu.device, &cloud_map)?;
+        let clouds = CloudPasses::new(&gpu.device, HDR_FORMAT)
+            .map_err(|e| DemoError::Pipeline(e.to_string()))?;
+        let cloud_group = clouds.bind_group(
+            &gpu.device,
+            &cloud_map.create_view(&Default::default()),
+            renderer.depth_view(),
+        );
         let apply = fog.create_apply(&gpu.device, HDR_FORMAT)?;
         let depth_group = apply.depth_bind_group(&gpu.device, renderer.depth_view());
         println!(
-            "fog pipeline: {:.1} MiB of GPU memory",
-            fog.memory_bytes() as f64 / (1024.0 * 1024.0)
+            "fog pipeline: {:.1} MiB of GPU memory; sky {:.0} KiB",
+            fog.memory_bytes() as f64 / (1024.0 * 1024.0),
+            sky.memory_bytes() as f64 / 1024.0
         );
         let aspect = args.width as f32 / args.height as f32;
         let clip_from_view =
@@ -308,6 +347,7 @@ impl<'a> Demo<'a> {
         let probe_textures = args.probe.then(|| {
             [
                 renderer.hdr_like(&gpu.device, "probe surface"),
+                renderer.hdr_like(&gpu.device, "probe clouded"),
                 renderer.hdr_like(&gpu.device, "probe fogged"),
             ]
         });
@@ -323,6 +363,9 @@ impl<'a> Demo<'a> {
             clip_from_view,
             splits,
             probe_textures,
+            sky,
+            clouds,
+            cloud_group,
         })
     }
 
@@ -370,14 +413,22 @@ impl<'a> Demo<'a> {
             shadow_bias: 2e-4,
             water: self.scene.water,
             air: self.scene.air,
+            atmosphere: self.scene.atmosphere,
             pool_min: scene::POOL_MIN.extend(1.0),
             pool_max: scene::POOL_MAX.extend(0.0),
         };
+        let time = 3.0 + frame as f32 * FRAME_TIME;
         FrameSetup {
+            rays: FrustumRays::new(view_from_world.inverse(), self.clip_from_view)
+                .expect("the demo's camera is a perspective camera"),
+            clouds: CloudLayer {
+                time,
+                ..self.scene.clouds
+            },
             froxel_apply: !scene::in_pool(eye),
             eye,
             view_from_world,
-            time: 3.0 + frame as f32 * FRAME_TIME,
+            time,
             uniform,
             cascades,
         }
@@ -416,16 +467,45 @@ impl<'a> Demo<'a> {
                 lights: &scene.lights,
                 local_volumes: &scene.local_volumes,
                 cascades: setup.cascades,
+                clouds: setup.clouds,
                 ..FrameInputs::new(setup.view_from_world, self.clip_from_view, setup.time)
             },
         )?;
+        self.clouds
+            .prepare(&gpu.queue, &setup.rays, &setup.clouds)?;
         let probe = self.probe_textures.as_ref().filter(|_| probe);
         let mut encoder = gpu.device.create_command_encoder(&Default::default());
         self.renderer.encode_shadows(&mut encoder);
         self.renderer.encode_opaque(&mut encoder, true);
         self.fog.encode(&mut encoder)?;
-        if let Some([surface, _]) = probe {
+        if let Some([surface, _, _]) = probe {
             self.renderer.copy_hdr(&mut encoder, surface);
+        }
+        if setup.froxel_apply {
+            // The clouds' shadow on the lit scene, then the distance clouds.
+            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                label: Some("demo clouds"),
+                color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                    view: self.renderer.hdr_view(),
+                    depth_slice: None,
+                    resolve_target: None,
+                    ops: wgpu::Operations {
+                        load: wgpu::LoadOp::Load,
+                        store: wgpu::StoreOp::Store,
+                    },
+                })],
+                depth_stencil_attachment: None,
+                timestamp_writes: None,
+                occlusion_query_set: None,
+                multiview_mask: None,
+            });
+            self.clouds
+                .draw(&mut pass, &self.cloud_group, CloudDraw::Shadow);
+            self.clouds
+                .draw(&mut pass, &self.cloud_group, CloudDraw::Distance);
+        }
+        if let Some([_, clouded, _]) = probe {
+            self.renderer.copy_hdr(&mut encoder, clouded);
         }
         if setup.froxel_apply {
             self.fog.record_apply(
@@ -435,7 +515,7 @@ impl<'a> Demo<'a> {
                 &self.depth_group,
             )?;
         }
-        if let Some([_, fogged]) = probe {
+        if let Some([_, _, fogged]) = probe {
             self.renderer.copy_hdr(&mut encoder, fogged);
         }
         self.renderer.encode_transparent(&mut encoder, &self.fog);
@@ -524,6 +604,33 @@ pub fn run(args: &DemoArgs) -> Result<(), DemoError> {
     Ok(())
 }
 
+/// The cloud density map as an R16Float texture (filtered in floating point; an 8-bit
+/// unorm map is filtered in 8-bit steps on some adapters, which dense clouds amplify).
+fn cloud_map_texture(gpu: &Gpu, map: &[f32]) -> wgpu::Texture {
+    use wgpu::util::DeviceExt;
+    let halfs: Vec<half::f16> = map.iter().map(|v| half::f16::from_f32(*v)).collect();
+    let bytes: &[u8] = bytemuck::cast_slice(&halfs);
+    gpu.device.create_texture_with_data(
+        &gpu.queue,
+        &wgpu::TextureDescriptor {
+            label: Some("demo cloud map"),
+            size: wgpu::Extent3d {
+                width: scene::CLOUD_MAP_SIZE,
+                height: scene::CLOUD_MAP_SIZE,
+                depth_or_array_layers: 1,
+            },
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format: wgpu::TextureFormat::R16Float,
+            usage: wgpu::TextureUsages::TEXTURE_BINDING,
+            view_formats: &[],
+        },
+        wgpu::util::TextureDataOrder::LayerMajor,
+        bytes,
+    )
+}
+
 /// Frames the second camera renders (the first reprojects the main camera's history).
 const UNDERWATER_FRAMES: u32 = 2;
 
@@ -547,7 +654,7 @@ fn render_underwater(demo: &mut Demo<'_>) -> Result<(), DemoError> {
     let png_path = args.out.join("underwater.png");
     write_png(&png_path, args.width, args.height, &rgba)?;
     println!("wrote {} (the camera under water)", png_path.display());
-    let Some([surface, _]) = demo.probe_textures.as_ref() else {
+    let Some([surface, _, _]) = demo.probe_textures.as_ref() else {
         return Ok(());
     };
     let dir = args.out.join("probe");
@@ -644,9 +751,10 @@ fn write_probe(
         clip_from_view,
         scene,
         probe_textures,
+        sky,
         ..
     } = demo;
-    let [surface, fogged] = probe_textures.as_ref().expect("called with --probe");
+    let [surface, clouded, fogged] = probe_textures.as_ref().expect("called with --probe");
     let (uniform, cascades, clip_from_view, medium) = (
         &setup.uniform,
         &setup.cascades,
@@ -657,6 +765,7 @@ fn write_probe(
     std::fs::create_dir_all(&dir).map_err(|e| write_error(&dir, e))?;
     let surface_hdr = gpu.read_texture_rgba16f(surface)?;
     let fogged_hdr = gpu.read_texture_rgba16f(fogged)?;
+    let clouded_hdr = gpu.read_texture_rgba16f(clouded)?;
     let depth_raw = gpu.read_texture_raw(&renderer.depth, 4)?;
     let depth: Vec<f32> = bytemuck::cast_slice(&depth_raw).to_vec();
 
@@ -693,6 +802,8 @@ fn write_probe(
     for (name, data) in [
         ("surface.f32", flat(&surface_hdr)),
         ("surface_dry.f32", flat(&dry_hdr)),
+        ("clouded.f32", flat(&clouded_hdr)),
+        ("cloud_map.f32", scene.cloud_map.clone()),
         ("fogged.f32", flat(&fogged_hdr)),
         ("final.f32", flat(&final_hdr)),
         ("inscatter.f32", flat(&inscatter_hdr)),
@@ -728,6 +839,8 @@ fn write_probe(
             "layout": "rgba f32 little-endian, rows top to bottom; depth.f32: one f32 per pixel (depth buffer, 0 near .. 1 far)",
             "surface": "surface.f32: lit opaque pass and sky before the fog (alpha: sun visibility of the surface, 1 for the sky), seen through the pool's water",
             "surface_dry": "surface_dry.f32: the same with the pool dry",
+            "clouded": "clouded.f32: after the clouds' shadow and the distance clouds, before the fog",
+            "cloud_map": "cloud_map.f32: the cloud density map, one f32 per texel, rows of cloud_map_size",
             "fogged": "fogged.f32: after the fullscreen fog apply (alpha kept)",
             "final": "final.f32: after the semi-transparent pass, before the tonemap",
             "inscatter": "inscatter.f32: every surface and the sky black, then the fog applied: the in-scattered radiance",
@@ -743,6 +856,14 @@ fn write_probe(
         },
         "sun_direction": uniform.sun_direction.to_array(),
         "water": water_json(&scene.water),
+        "sky": {
+            "atmosphere": scene.atmosphere,
+            "memory_bytes": sky.memory_bytes(),
+        },
+        "clouds": {
+            "layer": setup.clouds,
+            "map_size": scene::CLOUD_MAP_SIZE,
+        },
         "medium": {
             "density": medium.density,
             "height_falloff": medium.height_falloff,

@@ -53,6 +53,8 @@ pub struct SceneUniform {
     /// the water on, 0 renders the pool dry (the probe's reference).
     pub pool_min: Vec4,
     pub pool_max: Vec4,
+    /// The sky's atmosphere (`volfog::sky`); the sky texture is solved for it.
+    pub atmosphere: volfog::uniforms::SkyAtmosphere,
 }
 
 /// The demo's own passes, timed with GPU timestamps when available.
@@ -156,6 +158,7 @@ impl Renderer {
         height: u32,
         scene: &Scene,
         fog: &VolumetricFog,
+        sky: &volfog::pipeline::sky::SkyLight,
         timestamps: bool,
     ) -> Result<Self, String> {
         let config = fog.config();
@@ -282,6 +285,22 @@ impl Renderer {
                     ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Comparison),
                     count: None,
                 },
+                wgpu::BindGroupLayoutEntry {
+                    binding: 5,
+                    visibility: fragment,
+                    ty: wgpu::BindingType::Texture {
+                        sample_type: wgpu::TextureSampleType::Float { filterable: true },
+                        view_dimension: wgpu::TextureViewDimension::D2Array,
+                        multisampled: false,
+                    },
+                    count: None,
+                },
+                wgpu::BindGroupLayoutEntry {
+                    binding: 6,
+                    visibility: fragment,
+                    ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering),
+                    count: None,
+                },
             ],
         });
         let scene_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
@@ -307,6 +326,14 @@ impl Renderer {
                 wgpu::BindGroupEntry {
                     binding: 4,
                     resource: wgpu::BindingResource::Sampler(&shadow_sampler),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 5,
+                    resource: wgpu::BindingResource::TextureView(sky.view()),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 6,
+                    resource: wgpu::BindingResource::Sampler(sky.sampler()),
                 },
             ],
         });
@@ -792,6 +819,7 @@ impl SceneUniform {
             air: volfog::uniforms::HeightFog::default(),
             pool_min: Vec4::ZERO,
             pool_max: Vec4::ZERO,
+            atmosphere: volfog::uniforms::SkyAtmosphere::default(),
         }
     }
 }

@@ -8,9 +8,12 @@ use volfog::cpu::ambient::AmbientSh;
 use volfog::limits::InvalidValue;
 use volfog::pipeline::cascade_projection;
 use volfog::uniforms::{
-    DirectionalLight, FogLight, FogMedium, HeightFog, LocalVolume, ShadowCascades, VolumeShape,
-    Water,
+    CloudLayer, DirectionalLight, FogLight, FogMedium, HeightFog, LocalVolume, ShadowCascades,
+    SkyAtmosphere, VolumeShape, Water,
 };
+
+/// Texels per side of the cloud density map.
+pub const CLOUD_MAP_SIZE: u32 = 128;
 
 /// The pool: its footprint on the ground (x, z from min to max), its depth and the
 /// water surface's height (m).
@@ -156,6 +159,13 @@ pub struct Scene {
     pub water: Water,
     /// The medium as analytic height fog (seen from under water, beyond the surface).
     pub air: HeightFog,
+    /// The sky's atmosphere (`volfog::sky`) for the sun.
+    pub atmosphere: SkyAtmosphere,
+    /// The cloud layer at time 0 (`volfog::clouds`); its time follows the frames.
+    pub clouds: CloudLayer,
+    /// The cloud density map, `CLOUD_MAP_SIZE`² texels in [0, 1], each exact in f16
+    /// (the R16Float texture holds them unchanged).
+    pub cloud_map: Vec<f32>,
     pub sun: DirectionalLight,
     pub lights: Vec<FogLight>,
     pub local_volumes: Vec<LocalVolume>,
@@ -428,6 +438,25 @@ pub fn build() -> Result<Scene, InvalidValue> {
         water_surface,
         water,
         air: HeightFog::from_medium(&medium, Vec3::new(0.45, 0.4, 0.33)),
+        atmosphere: SkyAtmosphere {
+            sun_intensity: Vec3::splat(14.0),
+            ..SkyAtmosphere::earth(sun.direction)?
+        }
+        .validated()?,
+        // Cumulus 600 m up, drifting at 8 m/s; lit by the sun and the sky.
+        clouds: CloudLayer {
+            view_samples: 12,
+            sun_samples: 4,
+            ..CloudLayer::new(600.0, 150.0, 0.012, 900.0)?
+                .with_sun(
+                    sun.direction,
+                    sun.color * 0.5,
+                    Vec3::new(0.2, 0.25, 0.35),
+                    0.6,
+                )?
+                .with_wind(glam::Vec2::new(8.0, -3.0), 0.0)?
+        },
+        cloud_map: cloud_map(CLOUD_MAP_SIZE),
         sun,
         lights,
         local_volumes,
@@ -447,6 +476,29 @@ pub fn camera(t: f32) -> (Vec3, Mat4) {
         eye,
         glam::camera::rh::view::look_at_mat4(eye, target, Vec3::Y),
     )
+}
+
+/// A tileable cloud density map: four octaves of tiled Perlin noise with a coverage
+/// threshold, quantised to 1/256 (exact in f16).
+pub fn cloud_map(size: u32) -> Vec<f32> {
+    (0..size * size)
+        .map(|i| {
+            let (x, y) = (
+                (i % size) as f32 / size as f32,
+                (i / size) as f32 / size as f32,
+            );
+            let mut v = 0.0;
+            let mut amplitude = 0.5;
+            for octave in 0..4u32 {
+                let period = 4u32 << octave;
+                let p = Vec3::new(x * period as f32, y * period as f32, 0.37 + octave as f32);
+                v += amplitude * volfog::cpu::noise::perlin_noise_tiled(p, period);
+                amplitude *= 0.5;
+            }
+            let density = ((v + 0.08) * 3.0).clamp(0.0, 1.0);
+            (density * 256.0).round() / 256.0
+        })
+        .collect()
 }
 
 /// Is `p` in the pool's water (within the footprint, below the surface)?

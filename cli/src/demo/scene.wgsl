@@ -6,13 +6,15 @@
 //
 // Bindings (group 0): 0 Scene, 1 lights (array<FogLight>), 2 ShadowCascades,
 //                     3 shadow map (depth 2D array, one layer per cascade),
-//                     4 comparison sampler.
+//                     4 comparison sampler, 5 the sky texture (volfog::sky), 6 its
+//                     sampler.
 //           (group 1): the volfog::bindings fog group (transparent pass only).
 // Outputs: linear radiance in rgb; alpha carries the sun visibility of the opaque
 // surface (1 for the sky) for the demo's probe output; the fullscreen apply and the
 // transparent pass keep the destination alpha.
 
-#import volfog::types::{FogLight, HeightFog, ShadowCascades, Water}
+#import volfog::types::{FogLight, HeightFog, ShadowCascades, SkyAtmosphere, Water}
+#import volfog::sky::sky_sample
 #import volfog::height_fog::height_fog
 #import volfog::water::{water_fog, water_light}
 #import volfog::lights::{light_attenuation, spot_factor}
@@ -46,6 +48,8 @@ struct Scene {
     // The pool's footprint (x, z); pool_min.w 1 turns the water on.
     pool_min: vec4<f32>,
     pool_max: vec4<f32>,
+    // The sky's atmosphere; the sky texture (binding 5) is solved for it.
+    atmosphere: SkyAtmosphere,
 }
 
 @group(0) @binding(0) var<uniform> scene: Scene;
@@ -53,6 +57,8 @@ struct Scene {
 @group(0) @binding(2) var<uniform> cascades: ShadowCascades;
 @group(0) @binding(3) var shadow_map: texture_depth_2d_array;
 @group(0) @binding(4) var shadow_sampler: sampler_comparison;
+@group(0) @binding(5) var sky_texture: texture_2d_array<f32>;
+@group(0) @binding(6) var sky_texture_sampler: sampler;
 
 const PI: f32 = 3.14159265;
 
@@ -214,10 +220,10 @@ fn sky_fs(in: SkyOut) -> @location(0) vec4<f32> {
     let far = scene.world_from_clip * vec4<f32>(in.ndc, 1.0, 1.0);
     let near = scene.world_from_clip * vec4<f32>(in.ndc, 0.0, 1.0);
     let dir = normalize(far.xyz / far.w - near.xyz / near.w);
-    let up = clamp(dir.y, 0.0, 1.0);
-    var sky = mix(scene.sky_horizon, scene.sky_zenith, pow(up, 0.5));
+    // Nishita single scattering from the solved texture, the phase per pixel
+    // (volfog::sky), and the sun's disc.
+    var sky = sky_sample(sky_texture, sky_texture_sampler, dir, scene.atmosphere);
     let mu = dot(dir, scene.sun_direction);
-    sky += scene.sun_color * (0.02 * pow(max(mu, 0.0), 64.0));
     sky += scene.sun_color * (scene.sun_disk * smoothstep(0.9996, 0.9998, mu));
     if dir.y < 0.0 {
         sky = scene.ambient_ground;
