@@ -292,13 +292,22 @@ impl SkyLight {
 
     /// Records `sky_solve` over the band of rows `prepare` chose.
     pub fn encode_solve(&self, encoder: &mut wgpu::CommandEncoder) {
+        self.encode_solve_timed(encoder, None);
+    }
+
+    /// [`SkyLight::encode_solve`] with timestamp writes around the pass.
+    pub fn encode_solve_timed(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        timestamp_writes: Option<wgpu::ComputePassTimestampWrites<'_>>,
+    ) {
         let (_, rows) = self.band;
         if rows == 0 {
             return;
         }
         let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
             label: Some("volfog sky_solve"),
-            timestamp_writes: None,
+            timestamp_writes,
         });
         pass.set_pipeline(&self.solve);
         pass.set_bind_group(0, &self.solve_group, &[]);

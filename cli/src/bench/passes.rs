@@ -350,3 +350,121 @@ impl BlitPass {
         pass.draw(0..3, 0..1);
     }
 }
+
+/// The sky and the clouds over the main screen: the whole sky texture solved per
+/// frame, the clouds' shadow and the distance clouds at 1080p (default sample counts:
+/// 128 view and 32 sun samples per texel; 12 view and 4 sun samples per pixel).
+pub(super) struct Atmosphere {
+    sky: volfog::pipeline::sky::SkyLight,
+    clouds: volfog::pipeline::clouds::CloudPasses,
+    group: wgpu::BindGroup,
+    target: wgpu::TextureView,
+}
+
+impl Atmosphere {
+    pub(super) fn new(gpu: &Gpu, depth: &wgpu::Texture) -> Result<Self, BenchError> {
+        use volfog::pipeline::clouds::CloudPasses;
+        use volfog::pipeline::sky::SkyLight;
+        use volfog::uniforms::SkyAtmosphere;
+        let shader = |e: &dyn std::fmt::Display| BenchError::Readback(e.to_string());
+        let mut sky = SkyLight::new(&gpu.device, COLOR_FORMAT).map_err(|e| shader(&e))?;
+        let sun = glam::Vec3::new(0.3, 0.35, -0.9).normalize();
+        sky.set_atmosphere(SkyAtmosphere::earth(sun).map_err(|e| shader(&e))?)
+            .map_err(|e| shader(&e))?;
+        let clouds = CloudPasses::new(&gpu.device, COLOR_FORMAT).map_err(|e| shader(&e))?;
+        let n = 128u32;
+        let map: Vec<half::f16> = (0..n * n)
+            .map(|i| {
+                let (x, y) = ((i % n) as f32, (i / n) as f32);
+                half::f16::from_f32(
+                    (0.5 + 0.5 * (x * 0.21).sin() * (y * 0.17).cos()).clamp(0.0, 1.0),
+                )
+            })
+            .collect();
+        let map = {
+            use wgpu::util::DeviceExt;
+            gpu.device.create_texture_with_data(
+                &gpu.queue,
+                &wgpu::TextureDescriptor {
+                    label: Some("bench cloud map"),
+                    size: wgpu::Extent3d {
+                        width: n,
+                        height: n,
+                        depth_or_array_layers: 1,
+                    },
+                    mip_level_count: 1,
+                    sample_count: 1,
+                    dimension: wgpu::TextureDimension::D2,
+                    format: wgpu::TextureFormat::R16Float,
+                    usage: wgpu::TextureUsages::TEXTURE_BINDING,
+                    view_formats: &[],
+                },
+                wgpu::util::TextureDataOrder::LayerMajor,
+                bytemuck::cast_slice(&map),
+            )
+        };
+        let group = clouds.bind_group(
+            &gpu.device,
+            &map.create_view(&Default::default()),
+            &depth_view(depth),
+        );
+        let target = texture_2d(
+            &gpu.device,
+            "bench clouds target",
+            SCREEN,
+            COLOR_FORMAT,
+            wgpu::TextureUsages::RENDER_ATTACHMENT,
+        )
+        .create_view(&Default::default());
+        Ok(Self {
+            sky,
+            clouds,
+            group,
+            target,
+        })
+    }
+
+    /// The sky solve, the cloud shadow and the distance clouds of frame `f`, each
+    /// submitted alone (timer slots 4, 5, 6).
+    pub(super) fn frame(
+        &mut self,
+        gpu: &Gpu,
+        timer: &Timer,
+        f: u32,
+    ) -> Result<[Sample; 3], BenchError> {
+        use volfog::pipeline::clouds::CloudDraw;
+        use volfog::uniforms::{CloudLayer, FrustumRays};
+        let invalid = |e: &dyn std::fmt::Display| BenchError::Readback(e.to_string());
+        let proj = volfog_testkit::scene::projection();
+        let view = volfog_testkit::scene::view(2.0, 0.15);
+        let rays = FrustumRays::new(view.inverse(), proj).map_err(|e| invalid(&e))?;
+        self.sky
+            .prepare(&gpu.queue, &rays, 64)
+            .map_err(|e| invalid(&e))?;
+        let layer = CloudLayer::new(800.0, 200.0, 0.01, 2000.0)
+            .and_then(|l| {
+                l.with_sun(
+                    glam::Vec3::new(0.3, 0.35, -0.9).normalize(),
+                    glam::Vec3::splat(4.0),
+                    glam::Vec3::splat(0.3),
+                    0.6,
+                )
+            })
+            .and_then(|l| l.with_wind(glam::Vec2::new(8.0, 2.0), f as f32 / 60.0))
+            .map_err(|e| invalid(&e))?;
+        self.clouds
+            .prepare(&gpu.queue, &rays, &layer)
+            .map_err(|e| invalid(&e))?;
+        let sky_t = timer.run(gpu, 4, |e| self.sky.encode_solve_timed(e, timer.compute(4)))?;
+        let draw = |slot: u32, what: CloudDraw| {
+            timer.run(gpu, slot, |e| {
+                let mut pass =
+                    raymarch::fullscreen_pass(e, "bench clouds", &self.target, timer.render(slot));
+                self.clouds.draw(&mut pass, &self.group, what);
+            })
+        };
+        let shadow_t = draw(5, CloudDraw::Shadow)?;
+        let clouds_t = draw(6, CloudDraw::Distance)?;
+        Ok([sky_t, shadow_t, clouds_t])
+    }
+}

@@ -102,6 +102,18 @@ pub struct Ratios {
     pub raymarch_vs_froxel_fast: Ratio,
 }
 
+/// The sky and cloud passes against a fullscreen blit at 1080p (no targets: their
+/// cost relative to the floor of a fullscreen pass).
+#[derive(Debug, Clone, Serialize)]
+pub struct AtmosphereCost {
+    /// Median sky solve (the whole 128 x 64 texture) / median 1080p blit.
+    pub sky_solve_vs_blit: f64,
+    /// Median cloud shadow pass / median blit, 1920x1080.
+    pub cloud_shadow_vs_blit: f64,
+    /// Median distance clouds pass / median blit, 1920x1080.
+    pub distance_clouds_vs_blit: f64,
+}
+
 /// Depth culling in the bench scene.
 #[derive(Debug, Clone, Serialize)]
 pub struct Culling {
@@ -164,6 +176,8 @@ pub struct Report {
     pub memory: Memory,
     /// Depth culling in the bench scene.
     pub culling: Culling,
+    /// The sky and the clouds against a blit.
+    pub atmosphere: AtmosphereCost,
     /// Wall-clock time of the whole run, seconds.
     pub wall_seconds: f64,
 }
@@ -241,6 +255,11 @@ pub(super) fn summarize(
         live_fraction,
         inject_saving: median("inject") / median("inject_cull"),
     };
+    let atmosphere = AtmosphereCost {
+        sky_solve_vs_blit: median("sky_solve") / median("blit_1080p"),
+        cloud_shadow_vs_blit: median("cloud_shadow_1080p") / median("blit_1080p"),
+        distance_clouds_vs_blit: median("distance_clouds_1080p") / median("blit_1080p"),
+    };
     let mib = memory_bytes as f64 / (1024.0 * 1024.0);
     Report {
         adapter: gpu.info.name.clone(),
@@ -262,6 +281,7 @@ pub(super) fn summarize(
         passes,
         ratios,
         culling,
+        atmosphere,
         memory: Memory {
             bytes: memory_bytes,
             mib,
@@ -341,6 +361,15 @@ pub fn table(report: &Report) -> String {
         "froxels live after depth culling",
         100.0 * report.culling.live_fraction,
         report.culling.inject_saving
+    );
+    let a = &report.atmosphere;
+    let _ = writeln!(
+        out,
+        "{:<36} {:>9.2}x / {:.2}x / {:.2}x  (sky solve, cloud shadow, distance clouds)",
+        "sky and clouds / blit 1080p",
+        a.sky_solve_vs_blit,
+        a.cloud_shadow_vs_blit,
+        a.distance_clouds_vs_blit
     );
     let m = &report.memory;
     let _ = writeln!(

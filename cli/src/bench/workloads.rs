@@ -29,6 +29,9 @@ pub(super) const SERIES: &[(&str, &str)] = &[
     ("froxel_4k", "froxel 4K camera **"),
     ("apply_720p", "apply 1280x720"),
     ("apply_4k", "apply 3840x2160"),
+    ("sky_solve", "sky solve 128x64 texels"),
+    ("cloud_shadow_1080p", "cloud shadow 1920x1080"),
+    ("distance_clouds_1080p", "distance clouds 1920x1080"),
 ];
 
 pub(super) fn froxel_cost(t: &PassTimings) -> f64 {
@@ -112,6 +115,8 @@ pub(super) struct Workloads {
     pub(super) reference_group: wgpu::BindGroup,
     pub(super) reference_target: wgpu::TextureView,
     pub(super) timer: Timer,
+    /// The sky light and the cloud passes over the main screen's depth.
+    pub(super) atmosphere: Atmosphere,
 }
 
 impl Workloads {
@@ -190,7 +195,8 @@ impl Workloads {
             reference,
             reference_group,
             reference_target,
-            timer: Timer::new(gpu, 4),
+            timer: Timer::new(gpu, 7),
+            atmosphere: Atmosphere::new(gpu, &depth)?,
         })
     }
 
@@ -223,6 +229,7 @@ impl Workloads {
         let copy_t = timer.run(gpu, 0, |e| self.copy.encode(e, timer, 0))?;
         let write_t = timer.run(gpu, 3, |e| self.write.encode(e, timer, 3))?;
         let blit_t = timer.run(gpu, 1, |e| self.blit.encode(e, timer, 1))?;
+        let [sky_t, shadow_t, clouds_t] = self.atmosphere.frame(gpu, timer, f)?;
         let index = self.main.fog.frame_index().expect("prepared above");
         let uniforms = inputs.uniforms(&self.config, index)?;
         self.reference.upload(
@@ -285,6 +292,9 @@ impl Workloads {
             ("froxel_4k", both(&froxel_cost, &tl)),
             ("apply_720p", both(&|p| p.apply, &ts)),
             ("apply_4k", both(&|p| p.apply, &tl)),
+            ("sky_solve", sky_t),
+            ("cloud_shadow_1080p", shadow_t),
+            ("distance_clouds_1080p", clouds_t),
         ];
         samples.extend(raymarch_t.map(|r| ("raymarch_1080p", r)));
         Ok(samples)

@@ -42,6 +42,7 @@ fn quick_bench_writes_every_ratio_memory_and_adapter() {
         "inject (fast) / write",
         "raymarch / froxel fast",
         "froxels live after depth culling",
+        "sky and clouds / blit 1080p",
         "VolumetricFog::memory_bytes",
     ] {
         assert!(stdout.contains(line), "the table lacks {line:?}");
@@ -67,6 +68,14 @@ fn quick_bench_writes_every_ratio_memory_and_adapter() {
         );
         assert!(r["target"].is_string() && r["met"].is_boolean(), "{r}");
     }
+    for key in [
+        "sky_solve_vs_blit",
+        "cloud_shadow_vs_blit",
+        "distance_clouds_vs_blit",
+    ] {
+        let v = report["atmosphere"][key].as_f64().unwrap_or(f64::NAN);
+        assert!(v.is_finite() && v > 0.0, "atmosphere {key} = {v}");
+    }
     let passes = report["passes"].as_object().expect("passes");
     for key in [
         "inject",
@@ -77,6 +86,9 @@ fn quick_bench_writes_every_ratio_memory_and_adapter() {
         "blit_1080p",
         "froxel_1080p",
         "raymarch_1080p",
+        "sky_solve",
+        "cloud_shadow_1080p",
+        "distance_clouds_1080p",
         "froxel_720p",
         "froxel_4k",
         "cull",
