@@ -40,7 +40,12 @@ fn frustum_ray(rays: FrustumRays, uv: vec2<f32>) -> vec3<f32> {
 fn frustum_vertex(rays: FrustumRays, index: u32) -> FrustumVertex {
     let clip = fullscreen_position(index);
     let uv = vec2<f32>(clip.x * 0.5 + 0.5, 0.5 - clip.y * 0.5);
-    return FrustumVertex(clip, frustum_ray(rays, uv));
+    // Field by field: a constructor expression becomes a helper function in HLSL,
+    // outside the snippet's volfog_ names.
+    var v: FrustumVertex;
+    v.clip = clip;
+    v.ray = frustum_ray(rays, uv);
+    return v;
 }
 
 // View depth (m, positive in front of the camera) of a depth-buffer value; at most

@@ -50,6 +50,15 @@ struct SkyScattering {
     mie: vec3<f32>,
 }
 
+// A SkyScattering, field by field (a constructor expression becomes a helper function
+// in HLSL, outside the snippets' volfog_ names).
+fn sky_scattering(rayleigh: vec3<f32>, mie: vec3<f32>) -> SkyScattering {
+    var s: SkyScattering;
+    s.rayleigh = rayleigh;
+    s.mie = mie;
+    return s;
+}
+
 // Quadrature point i of n over [0, length]: (position s, weight ds), exponential
 // spacing with scale height `scale` (m).
 fn sky_quadrature(i: u32, n: u32, length: f32, scale: f32) -> vec2<f32> {
@@ -144,7 +153,7 @@ fn sky_single_scattering(atmosphere: SkyAtmosphere, view_dir: vec3<f32>) -> SkyS
         sum_m += t * (density.y * q.y);
         view_depth += half_step;
     }
-    return SkyScattering(atmosphere.rayleigh * sum_r, atmosphere.mie * sum_m);
+    return sky_scattering(atmosphere.rayleigh * sum_r, atmosphere.mie * sum_m);
 }
 
 // Radiance of the sky for its scattering integrals and the cosine between the view
@@ -179,7 +188,7 @@ fn sky_sample(sky: texture_2d_array<f32>, sky_sampler: sampler, dir: vec3<f32>, 
     let uv = sky_texture_uv(dir);
     let r = textureSampleLevel(sky, sky_sampler, uv, 0, 0.0).rgb;
     let m = textureSampleLevel(sky, sky_sampler, uv, 1, 0.0).rgb;
-    return sky_radiance(SkyScattering(r, m), dot(dir, atmosphere.sun_direction), atmosphere);
+    return sky_radiance(sky_scattering(r, m), dot(dir, atmosphere.sun_direction), atmosphere);
 }
 
 // Height fog (the density of `fog`; its colours are not used) lit by the sky: the

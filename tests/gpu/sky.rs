@@ -491,7 +491,7 @@ fn sky_is_finite_for_every_sun_and_view() {
 
 const FOG_KERNEL: &str = r#"
 #import volfog::types::{SkyAtmosphere, HeightFog}
-#import volfog::sky::{sky_height_fog, SkyScattering}
+#import volfog::sky::{sky_height_fog, sky_scattering}
 
 struct Input { atmosphere: SkyAtmosphere, fog: HeightFog, rayleigh: vec4<f32>, mie: vec4<f32>, segments: array<vec4<f32>> }
 @group(0) @binding(0) var<storage, read> input: Input;
@@ -501,7 +501,7 @@ struct Input { atmosphere: SkyAtmosphere, fog: HeightFog, rayleigh: vec4<f32>, m
 fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     let i = id.x;
     if i >= arrayLength(&input.segments) { return; }
-    let horizon = SkyScattering(input.rayleigh.xyz, input.mie.xyz);
+    let horizon = sky_scattering(input.rayleigh.xyz, input.mie.xyz);
     output[i] = sky_height_fog(input.fog, horizon, input.atmosphere, vec3<f32>(0.0, 1.0, 0.0), input.segments[i].xyz);
 }
 "#;
