@@ -196,3 +196,50 @@ pub fn cloud_map_sampler(device: &wgpu::Device) -> wgpu::Sampler {
         ..Default::default()
     })
 }
+
+/// A cloud density map texture (R16Float, `TEXTURE_BINDING`) of `width` x `height`
+/// densities in [0, 1], row-major, for [`CloudPasses::bind_group`] and
+/// `VolumetricFog::set_cloud_map`. A float map is filtered in floating point; an 8-bit
+/// unorm map may be filtered in 8-bit steps, which dense clouds amplify.
+pub fn cloud_map_texture(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    (width, height): (u32, u32),
+    densities: &[f32],
+) -> Result<wgpu::Texture, InvalidValue> {
+    check(
+        width > 0 && height > 0 && densities.len() == (width * height) as usize,
+        "cloud map densities",
+        densities.len(),
+        format!("width x height = {} values", width as u64 * height as u64),
+    )?;
+    let halfs: Vec<half::f16> = densities
+        .iter()
+        .map(|d| {
+            half::f16::from_f32(if d.is_finite() {
+                d.clamp(0.0, 1.0)
+            } else {
+                0.0
+            })
+        })
+        .collect();
+    Ok(device.create_texture_with_data(
+        queue,
+        &wgpu::TextureDescriptor {
+            label: Some("volfog cloud map"),
+            size: wgpu::Extent3d {
+                width,
+                height,
+                depth_or_array_layers: 1,
+            },
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format: wgpu::TextureFormat::R16Float,
+            usage: wgpu::TextureUsages::TEXTURE_BINDING,
+            view_formats: &[],
+        },
+        wgpu::util::TextureDataOrder::LayerMajor,
+        bytemuck::cast_slice(&halfs),
+    ))
+}

@@ -12,7 +12,6 @@ use glam::{Vec2, Vec3, Vec4};
 use volfog::cpu::clouds::{CloudMap, cloud_layer, cloud_shadow, distance_clouds};
 use volfog::cpu::soft_particles::soft_particle_box_fade;
 use volfog::uniforms::CloudLayer;
-use wgpu::util::DeviceExt;
 
 const KERNEL: &str = r#"
 #import volfog::types::CloudLayer
@@ -47,26 +46,13 @@ struct Case {
 /// A map texture (r16float) holding `map`'s texels (rounded to f16 in `map` too).
 fn map_texture(map: &CloudMap) -> wgpu::Texture {
     let gpu = gpu();
-    let data: Vec<half::f16> = map.texels.iter().map(|v| half::f16::from_f32(*v)).collect();
-    gpu.device.create_texture_with_data(
+    volfog::pipeline::clouds::cloud_map_texture(
+        &gpu.device,
         &gpu.queue,
-        &wgpu::TextureDescriptor {
-            label: Some("cloud map"),
-            size: wgpu::Extent3d {
-                width: map.width,
-                height: map.height,
-                depth_or_array_layers: 1,
-            },
-            mip_level_count: 1,
-            sample_count: 1,
-            dimension: wgpu::TextureDimension::D2,
-            format: wgpu::TextureFormat::R16Float,
-            usage: wgpu::TextureUsages::TEXTURE_BINDING,
-            view_formats: &[],
-        },
-        wgpu::util::TextureDataOrder::LayerMajor,
-        bytemuck::cast_slice(&data),
+        (map.width, map.height),
+        &map.texels,
     )
+    .unwrap()
 }
 
 fn random_map(rng: &mut Rng, size: u32) -> CloudMap {

@@ -373,36 +373,19 @@ impl Atmosphere {
             .map_err(|e| shader(&e))?;
         let clouds = CloudPasses::new(&gpu.device, COLOR_FORMAT).map_err(|e| shader(&e))?;
         let n = 128u32;
-        let map: Vec<half::f16> = (0..n * n)
+        let densities: Vec<f32> = (0..n * n)
             .map(|i| {
                 let (x, y) = ((i % n) as f32, (i / n) as f32);
-                half::f16::from_f32(
-                    (0.5 + 0.5 * (x * 0.21).sin() * (y * 0.17).cos()).clamp(0.0, 1.0),
-                )
+                0.5 + 0.5 * (x * 0.21).sin() * (y * 0.17).cos()
             })
             .collect();
-        let map = {
-            use wgpu::util::DeviceExt;
-            gpu.device.create_texture_with_data(
-                &gpu.queue,
-                &wgpu::TextureDescriptor {
-                    label: Some("bench cloud map"),
-                    size: wgpu::Extent3d {
-                        width: n,
-                        height: n,
-                        depth_or_array_layers: 1,
-                    },
-                    mip_level_count: 1,
-                    sample_count: 1,
-                    dimension: wgpu::TextureDimension::D2,
-                    format: wgpu::TextureFormat::R16Float,
-                    usage: wgpu::TextureUsages::TEXTURE_BINDING,
-                    view_formats: &[],
-                },
-                wgpu::util::TextureDataOrder::LayerMajor,
-                bytemuck::cast_slice(&map),
-            )
-        };
+        let map = volfog::pipeline::clouds::cloud_map_texture(
+            &gpu.device,
+            &gpu.queue,
+            (n, n),
+            &densities,
+        )
+        .map_err(|e| shader(&e))?;
         let group = clouds.bind_group(
             &gpu.device,
             &map.create_view(&Default::default()),

@@ -28,7 +28,7 @@ use glam::{Mat4, UVec3, Vec3, Vec4};
 use serde_json::json;
 use volfog::limits::InvalidValue;
 use volfog::pipeline::apply::ApplyPipeline;
-use volfog::pipeline::clouds::{CloudDraw, CloudPasses};
+use volfog::pipeline::clouds::{CloudDraw, CloudPasses, cloud_map_texture};
 use volfog::pipeline::sky::SkyLight;
 use volfog::pipeline::{
     FogConfig, FogError, FrameInputs, PassTimings, VolumetricFog, cascade_splits,
@@ -324,7 +324,8 @@ impl<'a> Demo<'a> {
         let mut encoder = gpu.device.create_command_encoder(&Default::default());
         sky.encode_solve(&mut encoder);
         gpu.queue.submit([encoder.finish()]);
-        let cloud_map = cloud_map_texture(&gpu, &scene.cloud_map);
+        let size = (scene::CLOUD_MAP_SIZE, scene::CLOUD_MAP_SIZE);
+        let cloud_map = cloud_map_texture(&gpu.device, &gpu.queue, size, &scene.cloud_map)?;
         fog.set_cloud_map(&gpu.device, &cloud_map)?;
         let clouds = CloudPasses::new(&gpu.device, HDR_FORMAT)
             .map_err(|e| DemoError::Pipeline(e.to_string()))?;
@@ -602,33 +603,6 @@ pub fn run(args: &DemoArgs) -> Result<(), DemoError> {
         started.elapsed().as_secs_f64()
     );
     Ok(())
-}
-
-/// The cloud density map as an R16Float texture (filtered in floating point; an 8-bit
-/// unorm map is filtered in 8-bit steps on some adapters, which dense clouds amplify).
-fn cloud_map_texture(gpu: &Gpu, map: &[f32]) -> wgpu::Texture {
-    use wgpu::util::DeviceExt;
-    let halfs: Vec<half::f16> = map.iter().map(|v| half::f16::from_f32(*v)).collect();
-    let bytes: &[u8] = bytemuck::cast_slice(&halfs);
-    gpu.device.create_texture_with_data(
-        &gpu.queue,
-        &wgpu::TextureDescriptor {
-            label: Some("demo cloud map"),
-            size: wgpu::Extent3d {
-                width: scene::CLOUD_MAP_SIZE,
-                height: scene::CLOUD_MAP_SIZE,
-                depth_or_array_layers: 1,
-            },
-            mip_level_count: 1,
-            sample_count: 1,
-            dimension: wgpu::TextureDimension::D2,
-            format: wgpu::TextureFormat::R16Float,
-            usage: wgpu::TextureUsages::TEXTURE_BINDING,
-            view_formats: &[],
-        },
-        wgpu::util::TextureDataOrder::LayerMajor,
-        bytes,
-    )
 }
 
 /// Frames the second camera renders (the first reprojects the main camera's history).

@@ -518,26 +518,7 @@ impl VolumetricFog {
         check_density_texture(texture, device)?;
         density.texture = texture.clone();
         density.user = true;
-        let live = |p: usize| {
-            self.culling
-                .as_ref()
-                .map(|c| (&c.views[p], &c.blocks.blocks))
-        };
-        self.inject_groups = [0, 1].map(|p| {
-            inject_bind_group(
-                device,
-                &self.inject,
-                &self.buffers,
-                &array_view(&self.esm_texture),
-                &view(&self.scattering),
-                InjectTextures {
-                    density: self.density.as_ref(),
-                    culling: live(p),
-                    noise: self.noise.as_ref(),
-                    clouds: self.clouds.as_ref(),
-                },
-            )
-        });
+        self.rebuild_inject_groups(device);
         Ok(())
     }
 
