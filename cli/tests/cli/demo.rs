@@ -724,7 +724,7 @@ fn sky_is_the_solved_atmosphere() {
         worst = worst.max(e);
         sum += e;
         n += 1;
-        assert!(e <= 0.05, "pixel {i} {d}: {got} vs {want}");
+        assert!(e <= 0.01, "pixel {i} {d}: {got} vs {want}");
         if d.dot(atmosphere.sun_direction) > 0.9 {
             toward += got;
         } else {
@@ -733,7 +733,7 @@ fn sky_is_the_solved_atmosphere() {
     }
     let (ct, ca) = (toward / toward.element_sum(), away / away.element_sum());
     eprintln!(
-        "sky: {n} pixels vs cpu::sky worst rel {worst:.3} mean {:.4} (bound 0.05); chromaticity \
+        "sky: {n} pixels vs cpu::sky worst rel {worst:.3} mean {:.4} (bound 0.01); chromaticity \
          towards the sun {ct:.3}, elsewhere {ca:.3}",
         sum / n as f32
     );
