@@ -188,6 +188,12 @@ pub enum BenchError {
     /// A frame's inputs are out of range.
     #[error(transparent)]
     Invalid(#[from] volfog::limits::InvalidValue),
+    /// The sky passes failed to build.
+    #[error(transparent)]
+    Sky(#[from] volfog::pipeline::sky::SkyError),
+    /// A volfog pass failed to compose.
+    #[error(transparent)]
+    Codegen(#[from] volfog::shaders::CodegenError),
     /// The adapter cannot time passes.
     #[error(
         "the adapter {adapter} does not support timestamp queries \

@@ -366,12 +366,10 @@ impl Atmosphere {
         use volfog::pipeline::clouds::CloudPasses;
         use volfog::pipeline::sky::SkyLight;
         use volfog::uniforms::SkyAtmosphere;
-        let shader = |e: &dyn std::fmt::Display| BenchError::Readback(e.to_string());
-        let mut sky = SkyLight::new(&gpu.device, COLOR_FORMAT).map_err(|e| shader(&e))?;
+        let mut sky = SkyLight::new(&gpu.device, COLOR_FORMAT)?;
         let sun = glam::Vec3::new(0.3, 0.35, -0.9).normalize();
-        sky.set_atmosphere(SkyAtmosphere::earth(sun).map_err(|e| shader(&e))?)
-            .map_err(|e| shader(&e))?;
-        let clouds = CloudPasses::new(&gpu.device, COLOR_FORMAT).map_err(|e| shader(&e))?;
+        sky.set_atmosphere(SkyAtmosphere::earth(sun)?)?;
+        let clouds = CloudPasses::new(&gpu.device, COLOR_FORMAT)?;
         let n = 128u32;
         let densities: Vec<f32> = (0..n * n)
             .map(|i| {
@@ -384,8 +382,7 @@ impl Atmosphere {
             &gpu.queue,
             (n, n),
             &densities,
-        )
-        .map_err(|e| shader(&e))?;
+        )?;
         let group = clouds.bind_group(
             &gpu.device,
             &map.create_view(&Default::default()),
@@ -417,13 +414,10 @@ impl Atmosphere {
     ) -> Result<[Sample; 3], BenchError> {
         use volfog::pipeline::clouds::CloudDraw;
         use volfog::uniforms::{CloudLayer, FrustumRays};
-        let invalid = |e: &dyn std::fmt::Display| BenchError::Readback(e.to_string());
         let proj = volfog_testkit::scene::projection();
         let view = volfog_testkit::scene::view(2.0, 0.15);
-        let rays = FrustumRays::new(view.inverse(), proj).map_err(|e| invalid(&e))?;
-        self.sky
-            .prepare(&gpu.queue, &rays, 64)
-            .map_err(|e| invalid(&e))?;
+        let rays = FrustumRays::new(view.inverse(), proj)?;
+        self.sky.prepare(&gpu.queue, &rays, 64)?;
         let layer = CloudLayer::new(800.0, 200.0, 0.01, 2000.0)
             .and_then(|l| {
                 l.with_sun(
@@ -433,11 +427,8 @@ impl Atmosphere {
                     0.6,
                 )
             })
-            .and_then(|l| l.with_wind(glam::Vec2::new(8.0, 2.0), f as f32 / 60.0))
-            .map_err(|e| invalid(&e))?;
-        self.clouds
-            .prepare(&gpu.queue, &rays, &layer)
-            .map_err(|e| invalid(&e))?;
+            .and_then(|l| l.with_wind(glam::Vec2::new(8.0, 2.0), f as f32 / 60.0))?;
+        self.clouds.prepare(&gpu.queue, &rays, &layer)?;
         let sky_t = timer.run(gpu, 4, |e| self.sky.encode_solve_timed(e, timer.compute(4)))?;
         let draw = |slot: u32, what: CloudDraw| {
             timer.run(gpu, slot, |e| {
