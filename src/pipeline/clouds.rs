@@ -157,12 +157,7 @@ impl CloudPasses {
         layer: &CloudLayer,
     ) -> Result<(), InvalidValue> {
         let layer = layer.validated()?;
-        check(
-            rays.camera.is_finite(),
-            "FrustumRays.camera",
-            rays.camera,
-            "a finite position",
-        )?;
+        let rays = rays.validated()?;
         queue.write_buffer(&self.rays, 0, &rays.to_bytes());
         queue.write_buffer(&self.layer, 0, &layer.to_bytes());
         Ok(())

@@ -271,12 +271,7 @@ impl SkyLight {
             rows,
             "1..=64 rows of the sky texture",
         )?;
-        check(
-            rays.camera.is_finite(),
-            "FrustumRays.camera",
-            rays.camera,
-            "a finite position",
-        )?;
+        let rays = rays.validated()?;
         let first = self.next_row;
         let rows = rows.min(SKY_TEXTURE_HEIGHT - first);
         self.band = (first, rows);

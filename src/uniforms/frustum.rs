@@ -86,6 +86,27 @@ impl FrustumRays {
         })
     }
 
+    /// Checks a `FrustumRays` built by hand: finite corners, camera and depth terms,
+    /// and a far plane beyond the camera.
+    pub fn validated(self) -> Result<Self, InvalidValue> {
+        let finite = self.corners.iter().all(|c| c.is_finite())
+            && self.camera.is_finite()
+            && self.depth_terms.is_finite();
+        check(
+            finite,
+            "FrustumRays",
+            self,
+            "finite corners, camera and depth terms",
+        )?;
+        check(
+            self.camera.w > 0.0,
+            "FrustumRays.camera.w",
+            self.camera.w,
+            "the far plane's view depth, above 0",
+        )?;
+        Ok(self)
+    }
+
     /// The camera position.
     pub fn camera_position(&self) -> Vec3 {
         self.camera.truncate()

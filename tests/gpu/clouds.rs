@@ -631,3 +631,43 @@ fn clouds_are_finite_for_every_sun_and_view() {
         }
     }
 }
+
+/// Bad inputs to the sky and cloud runtimes come back as typed errors that name the
+/// field and its range, never a panic.
+#[test]
+fn bad_sky_and_cloud_inputs_are_typed_errors() {
+    use volfog::pipeline::clouds::{CloudPasses, cloud_map_texture};
+    use volfog::pipeline::sky::SkyLight;
+    use volfog::uniforms::{FrustumRays, SkyAtmosphere};
+    let gpu = gpu();
+    let proj = glam::camera::rh::proj::directx::perspective(1.0, 1.5, 0.1, 100.0);
+    let rays = FrustumRays::new(glam::Mat4::IDENTITY, proj).unwrap();
+    let clouds = CloudPasses::new(&gpu.device, wgpu::TextureFormat::Rgba16Float).unwrap();
+    let good = CloudLayer::new(500.0, 100.0, 0.01, 1000.0).unwrap();
+    let bad_layer = CloudLayer {
+        extinction: f32::NAN,
+        ..good
+    };
+    let e = clouds.prepare(&gpu.queue, &rays, &bad_layer).unwrap_err();
+    assert_eq!(e.field, "CloudLayer.extinction", "{e}");
+    let mut bad_rays = rays;
+    bad_rays.corners[2].x = f32::INFINITY;
+    let e = clouds.prepare(&gpu.queue, &bad_rays, &good).unwrap_err();
+    assert_eq!(e.field, "FrustumRays", "{e}");
+    let e = cloud_map_texture(&gpu.device, &gpu.queue, (4, 4), &[0.5; 15]).unwrap_err();
+    assert!(e.to_string().contains("16 values"), "{e}");
+    let mut sky = SkyLight::new(&gpu.device, wgpu::TextureFormat::Rgba16Float).unwrap();
+    let e = sky.prepare(&gpu.queue, &rays, 0).unwrap_err();
+    assert!(e.to_string().contains("1..=64"), "{e}");
+    let e = sky
+        .set_atmosphere(SkyAtmosphere {
+            view_samples: 0,
+            ..SkyAtmosphere::earth(Vec3::Y).unwrap()
+        })
+        .unwrap_err();
+    assert_eq!(e.field, "SkyAtmosphere.view_samples", "{e}");
+    // Corner rays to view depth 1 need a perspective projection.
+    let ortho = glam::camera::rh::proj::directx::orthographic(-1.0, 1.0, -1.0, 1.0, 0.1, 10.0);
+    let e = FrustumRays::new(glam::Mat4::IDENTITY, ortho).unwrap_err();
+    assert_eq!(e.field, "FrustumRays.clip_from_view", "{e}");
+}
