@@ -363,7 +363,7 @@ pub const PASSES: &[PassSource] = &[
     ),
     pass!(
         "hull_thickness",
-        axes: &[],
+        axes: &[Axis::Flag("VOLFOG_HULL_RESOLVED")],
         values: &[],
         usage: "Draw each hull's triangle list (every face) into a float target cleared to 0, \
                 the size of the scene depth buffer. Vertex buffer 0: stride 12, location 0 \
@@ -374,7 +374,8 @@ pub const PASSES: &[PassSource] = &[
                 FogHull.reference and quantum set from the hull's bounds) or Rgba32Float \
                 where FLOAT32_BLENDABLE is available (quantum 0). Blend colour and alpha: \
                 src * One + dst * One (add). Binding 1 is the scene depth buffer, bound as \
-                unfilterable float.",
+                unfilterable float; under VOLFOG_HULL_RESOLVED the resolved two-channel MSAA \
+                fog layout (rg16float, r the view depth in m; see apply).",
         render: RenderState {
             vertex: None,
             formats: &["rgba16float", "rgba32float"],

@@ -19,11 +19,14 @@
 //   0  uniform FogHull (vertex and fragment)
 //   1  texture_2d<f32>, unfilterable: the scene depth buffer (a depth texture bound
 //      as unfilterable float; read with textureLoad); clear it to the far value
-//      where there is no scene
+//      where there is no scene. Under VOLFOG_HULL_RESOLVED the resolved MSAA fog
+//      layout instead (volfog::apply::fog_layout: r the view depth in m), so a
+//      multisampled scene needs no resolved depth buffer.
+// Defines: VOLFOG_HULL_RESOLVED — read the scene's view depth from the resolved layout.
 // Reference: Boyd 2001, "Volumetric Rendering in Realtime" (see volfog::hull).
 
 #import volfog::types::FogHull
-#import volfog::hull::{HullVertex, hull_clip_position, hull_scene_distance, hull_contribution}
+#import volfog::hull::{HullVertex, hull_clip_position, hull_scene_distance, hull_scene_distance_from_view_depth, hull_contribution}
 #import volfog::froxel::ndc_from_uv
 
 @group(0) @binding(0) var<uniform> hull: FogHull;
@@ -39,7 +42,11 @@ fn hull_thickness_vs(@location(0) position: vec3<f32>) -> HullVertex {
 fn hull_thickness_fs(in: HullVertex, @builtin(front_facing) front_facing: bool) -> @location(0) vec4<f32> {
     let size = vec2<f32>(textureDimensions(scene_depth));
     let depth = textureLoad(scene_depth, vec2<i32>(in.clip.xy), 0).r;
+#ifdef VOLFOG_HULL_RESOLVED
+    let scene = hull_scene_distance_from_view_depth(in.clip.xy / size, depth, hull.view_from_clip);
+#else
     let ndc = vec3<f32>(ndc_from_uv(in.clip.xy / size), depth);
     let scene = hull_scene_distance(ndc, hull.view_from_clip);
+#endif
     return hull_contribution(length(in.offset), scene, hull.reference, hull.quantum, front_facing);
 }

@@ -48,6 +48,8 @@
 //           by about 2^-24 of the distances.
 #define_import_path volfog::hull
 
+#import volfog::froxel::ray_scale
+
 // Clip w (m of view depth for a perspective projection) below which the hull is
 // clipped: only the part within 1 mm of the camera plane and behind it is lost.
 const HULL_MIN_W: f32 = 1e-3;
@@ -82,6 +84,14 @@ fn hull_scene_distance(ndc: vec3<f32>, view_from_clip: mat4x4<f32>) -> f32 {
         return 1e30;
     }
     return min(length(p.xyz / p.w), 1e30);
+}
+
+// Distance (m) from the camera to the scene point at screen uv (v down) and view depth
+// view_depth (m, the r channel of the resolved MSAA fog layout, volfog::apply::
+// fog_layout): the view depth times the view ray's length per metre of view depth; at
+// most 1e30.
+fn hull_scene_distance_from_view_depth(uv: vec2<f32>, view_depth: f32, view_from_clip: mat4x4<f32>) -> f32 {
+    return min(max(view_depth, 0.0) * ray_scale(uv, view_from_clip), 1e30);
 }
 
 // The signed term of one hull fragment: a face at face_distance (m) from the camera,

@@ -42,6 +42,12 @@ pub fn hull_scene_distance(ndc: Vec3, view_from_clip: Mat4) -> f32 {
     (p.truncate() / p.w).length().min(1e30)
 }
 
+/// Distance (m) from the camera to the scene point at screen `uv` and `view_depth` (m,
+/// the resolved MSAA fog layout's r channel); at most 1e30.
+pub fn hull_scene_distance_from_view_depth(uv: Vec2, view_depth: f32, view_from_clip: Mat4) -> f32 {
+    (view_depth.max(0.0) * super::froxel::ray_scale(uv, view_from_clip)).min(1e30)
+}
+
 /// The signed term of one hull fragment (exit +, entry -): the distance clamped to
 /// the scene and taken relative to the reference, split into a multiple of
 /// `quantum` (x) and the remainder (w) when `quantum > 0`; y the crossing (+-1), z

@@ -184,8 +184,19 @@ impl HullThicknessPass {
         }
     }
 
-    /// Compiles the pass for a hull-sum format.
+    /// Compiles the pass for a hull-sum format, reading the scene depth buffer.
     pub fn new(device: &wgpu::Device, format: HullSumFormat) -> Result<Self, HullError> {
+        Self::with_input(device, format, crate::options::ApplyInput::Depth)
+    }
+
+    /// As [`HullThicknessPass::new`], reading `input` at binding 1: the scene depth,
+    /// or the resolved MSAA fog layout (`VOLFOG_HULL_RESOLVED`) of a multisampled
+    /// scene.
+    pub fn with_input(
+        device: &wgpu::Device,
+        format: HullSumFormat,
+        input: crate::options::ApplyInput,
+    ) -> Result<Self, HullError> {
         if format == HullSumFormat::Full
             && !device
                 .features()
@@ -193,7 +204,11 @@ impl HullThicknessPass {
         {
             return Err(HullError::Float32BlendableMissing);
         }
-        let module = shader_module(device, "hull_thickness", &[])?;
+        let defines = match input {
+            crate::options::ApplyInput::Depth => Vec::new(),
+            crate::options::ApplyInput::ResolvedLayout => vec!["VOLFOG_HULL_RESOLVED".to_string()],
+        };
+        let module = shader_module(device, "hull_thickness", &defines)?;
         let layout = bind_group_layout(device, "volfog hull_thickness", &Self::layout_entries());
         let pipeline = render_pipeline(
             device,

@@ -12,6 +12,7 @@ use glam::{Mat4, Vec2, Vec3, Vec4};
 use volfog::cpu::hull::{
     HULL_MIN_W, HullMesh, box_interval, boxes_chord, hull_fog, hull_thickness,
 };
+use volfog::options::ApplyInput;
 use volfog::pipeline::hull::{
     HullCompositePass, HullSumFormat, HullThicknessPass, hull_sum_texture,
 };
@@ -238,10 +239,11 @@ fn render(
     case: &Case,
     exact: &[Exact],
     format: HullSumFormat,
+    input: ApplyInput,
 ) -> (Vec<Vec4>, Vec<Vec4>) {
     let device = &gpu.device;
     let thickness = gpu
-        .checked(|| HullThicknessPass::new(device, format))
+        .checked(|| HullThicknessPass::with_input(device, format, input))
         .unwrap()
         .unwrap();
     let composite = gpu
@@ -264,11 +266,51 @@ fn render(
         usage: wgpu::BufferUsages::INDEX,
     });
     let depths: Vec<f32> = exact.iter().map(|e| e.depth).collect();
-    let depth = depth_texture(gpu, WIDTH, HEIGHT, &depths).unwrap();
-    let depth_view = depth.create_view(&wgpu::TextureViewDescriptor {
-        aspect: wgpu::TextureAspect::DepthOnly,
-        ..Default::default()
-    });
+    let depth_view = match input {
+        ApplyInput::Depth => depth_texture(gpu, WIDTH, HEIGHT, &depths)
+            .unwrap()
+            .create_view(&wgpu::TextureViewDescriptor {
+                aspect: wgpu::TextureAspect::DepthOnly,
+                ..Default::default()
+            }),
+        ApplyInput::ResolvedLayout => {
+            // The resolved MSAA fog layout: view depth (m) in r, fog amount 0 in g.
+            let view_from_clip = case.camera.proj.inverse();
+            let layout: Vec<half::f16> = depths
+                .iter()
+                .flat_map(|d| {
+                    let p = view_from_clip * Vec4::new(0.0, 0.0, *d, 1.0);
+                    let z = if p.w.abs() < 1e-30 {
+                        65504.0
+                    } else {
+                        (-p.z / p.w).min(65504.0)
+                    };
+                    [half::f16::from_f32(z), half::f16::ZERO]
+                })
+                .collect();
+            device
+                .create_texture_with_data(
+                    &gpu.queue,
+                    &wgpu::TextureDescriptor {
+                        label: Some("resolved layout"),
+                        size: wgpu::Extent3d {
+                            width: WIDTH,
+                            height: HEIGHT,
+                            depth_or_array_layers: 1,
+                        },
+                        mip_level_count: 1,
+                        sample_count: 1,
+                        dimension: wgpu::TextureDimension::D2,
+                        format: volfog::options::FOG_LAYOUT_FORMAT,
+                        usage: wgpu::TextureUsages::TEXTURE_BINDING,
+                        view_formats: &[],
+                    },
+                    wgpu::util::TextureDataOrder::LayerMajor,
+                    bytemuck::cast_slice(&layout),
+                )
+                .create_view(&Default::default())
+        }
+    };
     let sum = hull_sum_texture(device, [WIDTH, HEIGHT], format);
     let sum_view = sum.create_view(&Default::default());
     let colors: Vec<half::f16> = (0..exact.len())
@@ -363,9 +405,9 @@ struct Errors {
     composite_vs_exact: f32,
 }
 
-fn measure(gpu: &Gpu, case: &Case, format: HullSumFormat, floor: f32) -> Errors {
+fn measure(gpu: &Gpu, case: &Case, format: HullSumFormat, floor: f32, input: ApplyInput) -> Errors {
     let (exact, interior) = case.exact_image();
-    let (sums, composited) = render(gpu, case, &exact, format);
+    let (sums, composited) = render(gpu, case, &exact, format, input);
     assert!(
         sums.iter().chain(&composited).all(|v| v.is_finite()),
         "{}: non-finite GPU output",
@@ -548,7 +590,7 @@ fn thickness_matches_exact_chords_rgba16float() {
     for case in cases() {
         // fp16 terms relative to the reference, split at the quantum (2^-8 m or less
         // here): 1 % of the chord per pixel, down to 1 mm chords.
-        let e = measure(gpu, &case, HullSumFormat::Half, 1e-3);
+        let e = measure(gpu, &case, HullSumFormat::Half, 1e-3, ApplyInput::Depth);
         assert!(
             e.compared > 500 && e.fogged > 100,
             "{}: too few pixels",
@@ -568,7 +610,7 @@ fn thickness_matches_exact_chords_rgba32float() {
     gpu.require(wgpu::Features::FLOAT32_BLENDABLE);
     for case in cases() {
         // 1 % of the chord per pixel, down to 1 mm chords.
-        let e = measure(gpu, &case, HullSumFormat::Full, 1e-3);
+        let e = measure(gpu, &case, HullSumFormat::Full, 1e-3, ApplyInput::Depth);
         assert!(
             e.compared > 500 && e.fogged > 100,
             "{}: too few pixels",
@@ -577,6 +619,32 @@ fn thickness_matches_exact_chords_rgba32float() {
         assert!(e.floored <= 0.01, "{}: {e:?}", case.name);
         assert_eq!(e.count_mismatches, 0, "{}", case.name);
         assert!(e.composite_vs_cpu <= 2e-3, "{}: {e:?}", case.name);
+        assert!(e.composite_vs_exact <= 5e-3, "{}: {e:?}", case.name);
+    }
+}
+
+/// A multisampled scene: the thickness pass reads the scene's view depth from the
+/// resolved MSAA fog layout (`VOLFOG_HULL_RESOLVED`, rg16float). Against the same
+/// exact chords; rg16float keeps 11 bits of the view depth (0.05 %, a few millimetres
+/// at these distances), so the bound is 1 % of the chord down to 0.5 m chords.
+#[test]
+fn thickness_from_the_resolved_msaa_layout_matches_exact_chords() {
+    let gpu = gpu();
+    for case in cases() {
+        let e = measure(
+            gpu,
+            &case,
+            HullSumFormat::Half,
+            0.5,
+            ApplyInput::ResolvedLayout,
+        );
+        assert!(
+            e.compared > 500 && e.fogged > 100,
+            "{}: too few pixels",
+            case.name
+        );
+        assert!(e.floored <= 0.01, "{}: {e:?}", case.name);
+        assert_eq!(e.count_mismatches, 0, "{}", case.name);
         assert!(e.composite_vs_exact <= 5e-3, "{}: {e:?}", case.name);
     }
 }

@@ -236,10 +236,12 @@ fn runtime_layouts_match_the_shaders() {
         // The apply pass reads the fog group but not its FogView (binding 4).
         checked += check_entries(&variant(name).entries, name, &groups, &[1]);
     }
-    checked += check(
-        "hull_thickness@default",
-        &[(0, hull::HullThicknessPass::layout_entries().to_vec())],
-    );
+    for name in ["hull_thickness@default", "hull_thickness@HULL_RESOLVED"] {
+        checked += check(
+            name,
+            &[(0, hull::HullThicknessPass::layout_entries().to_vec())],
+        );
+    }
     checked += check(
         "hull_composite@default",
         &[(0, hull::HullCompositePass::layout_entries().to_vec())],
