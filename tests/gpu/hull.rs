@@ -649,6 +649,43 @@ fn thickness_from_the_resolved_msaa_layout_matches_exact_chords() {
     }
 }
 
+/// The scene distance from a view depth (the resolved layout's path) equals the one
+/// from the depth-buffer value of the same point, on the CPU, for standard and
+/// reversed projections.
+#[test]
+fn scene_distance_from_view_depth_equals_the_depth_buffer_path() {
+    use volfog::cpu::hull::{hull_scene_distance, hull_scene_distance_from_view_depth};
+    for proj in [
+        glam::camera::rh::proj::directx::perspective(1.0, 1.6, 0.1, 300.0),
+        glam::camera::rh::proj::directx::perspective(1.0, 1.6, 300.0, 0.1),
+    ] {
+        let view_from_clip = proj.inverse();
+        for (u, v, z) in [
+            (0.5, 0.5, 2.0f32),
+            (0.05, 0.9, 40.0),
+            (0.97, 0.1, 250.0),
+            (0.3, 0.7, 0.3),
+        ] {
+            let uv = glam::Vec2::new(u, v);
+            let ndc = volfog::cpu::froxel::ndc_from_uv(uv);
+            let p = view_from_clip.project_point3(ndc.extend(0.5));
+            let view = p * (z / p.z.abs());
+            let clip = proj * view.extend(1.0);
+            let from_depth = hull_scene_distance(ndc.extend(clip.z / clip.w), view_from_clip);
+            let from_view = hull_scene_distance_from_view_depth(uv, z, view_from_clip);
+            assert!(
+                (from_view - view.length()).abs() <= 1e-5 * view.length(),
+                "{from_view} vs {}",
+                view.length()
+            );
+            assert!(
+                (from_view - from_depth).abs() <= 1e-4 * view.length(),
+                "{from_view} vs {from_depth}"
+            );
+        }
+    }
+}
+
 #[test]
 fn near_clamp_keeps_faces_in_front_of_the_near_plane() {
     // The clip depth w - HULL_MIN_W lies in [0, w] for every w >= HULL_MIN_W: a face at

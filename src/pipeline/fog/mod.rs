@@ -509,11 +509,7 @@ impl VolumetricFog {
         texture: &wgpu::Texture,
     ) -> Result<(), FogError> {
         let Some(density) = self.density.as_mut() else {
-            return Err(FogError::Invalid(crate::limits::InvalidValue {
-                field: "FogConfig.density_texture",
-                value: "false".to_string(),
-                expected: "true to use a density texture".into(),
-            }));
+            return Err(option_off("FogConfig.density_texture", "a density texture"));
         };
         check_density_texture(texture, device)?;
         density.texture = texture.clone();
@@ -532,11 +528,7 @@ impl VolumetricFog {
         texture: &wgpu::Texture,
     ) -> Result<(), FogError> {
         let Some(clouds) = self.clouds.as_mut() else {
-            return Err(FogError::Invalid(crate::limits::InvalidValue {
-                field: "FogConfig.cloud_shadow",
-                value: "false".to_string(),
-                expected: "true to use a cloud map".into(),
-            }));
+            return Err(option_off("FogConfig.cloud_shadow", "a cloud map"));
         };
         check_cloud_map(texture, device)?;
         clouds.map = texture.clone();
@@ -996,6 +988,15 @@ fn unit_density_texture(device: &wgpu::Device) -> wgpu::Texture {
         format: wgpu::TextureFormat::R8Unorm,
         usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
         view_formats: &[],
+    })
+}
+
+/// The error of a texture set for an option the configuration has off.
+fn option_off(field: &'static str, what: &str) -> FogError {
+    FogError::Invalid(crate::limits::InvalidValue {
+        field,
+        value: "false".to_string(),
+        expected: format!("true to use {what}").into(),
     })
 }
 
