@@ -66,6 +66,11 @@ pub enum ApplyInput {
     /// depth, its amount averaged over the samples (Wenzel 2007, "Scene depth based
     /// rendering and MSAA: Fog"), so silhouettes get no outline.
     ResolvedLayout,
+    /// The scene depth buffer at binding 0 and, at binding 1, the shaft texture of
+    /// [`EpipolarShafts`](crate::pipeline::epipolar::EpipolarShafts) marched from the
+    /// far plane in the tail's medium: beyond the far plane the tail's sun light is
+    /// shadowed (the far field, `VOLFOG_APPLY_EPIPOLAR`).
+    FarField,
 }
 
 /// The format of the MSAA fog layout target: two half floats (view depth in m, fog
@@ -78,6 +83,7 @@ impl ApplyInput {
         match self {
             ApplyInput::Depth => Vec::new(),
             ApplyInput::ResolvedLayout => vec!["VOLFOG_APPLY_RESOLVED".to_string()],
+            ApplyInput::FarField => vec!["VOLFOG_APPLY_EPIPOLAR".to_string()],
         }
     }
 }

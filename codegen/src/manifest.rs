@@ -247,6 +247,7 @@ pub const MODULES: &[ModuleSource] = &[
     module!("sky"),
     module!("frustum"),
     module!("clouds"),
+    module!("epipolar"),
 ];
 
 /// Passes (entry-point files) and their define axes.
@@ -282,7 +283,11 @@ pub const PASSES: &[PassSource] = &[
     ),
     pass!(
         "apply",
-        axes: &[Axis::Flag("VOLFOG_BINDINGS_NO_SAMPLER"), Axis::Flag("VOLFOG_APPLY_RESOLVED")],
+        axes: &[
+            Axis::Flag("VOLFOG_BINDINGS_NO_SAMPLER"),
+            Axis::Flag("VOLFOG_APPLY_RESOLVED"),
+            Axis::Flag("VOLFOG_APPLY_EPIPOLAR"),
+        ],
         values: &[],
         usage: "Draw 3 vertices with fullscreen_vs (pass fullscreen), no vertex buffers, onto \
                 the lit colour target (load, no depth attachment). Blend colour: src * One + \
@@ -292,7 +297,9 @@ pub const PASSES: &[PassSource] = &[
                 as unfilterable float; under VOLFOG_APPLY_RESOLVED it is the resolved \
                 two-channel MSAA fog layout (rg16float: r the view depth in m, g the fog \
                 amount 1 - T, averaged by the resolve of a multisampled target the depth \
-                pre-pass wrote with fog_layout), bound as unfilterable float.",
+                pre-pass wrote with fog_layout), bound as unfilterable float. Under \
+                VOLFOG_APPLY_EPIPOLAR group 1 binding 1 is the epipolar shaft texture \
+                (rgba16float, r the lit fraction), bound as unfilterable float.",
         render: FULLSCREEN_COMPOSITE
     ),
     pass!(
@@ -443,6 +450,89 @@ pub const PASSES: &[PassSource] = &[
                 no vertex buffers, onto the lit colour target (load, no depth attachment). Blend colour: src * One + dst * \
                 SrcAlpha (add); alpha: src * Zero + dst * One (add). Binding 1 is the \
                 hull_thickness target, bound as unfilterable float.",
+        render: FULLSCREEN_COMPOSITE
+    ),
+    pass!(
+        "epipolar_coords",
+        axes: &[],
+        values: &[],
+        usage: "First pass of epipolar sun shafts (EpipolarShafts runs them all). Dispatch \
+                ceil(samples / 64) x slices workgroups. Binding 1 is the scene depth buffer, \
+                bound as unfilterable float; binding 2 the coordinate texture, rgba32float, \
+                samples x slices, storage and texture binding usage."
+    ),
+    pass!(
+        "epipolar_refine",
+        axes: &[],
+        values: &[],
+        usage: "Dispatch samples / 128 x slices workgroups after epipolar_coords. Binding 1 is \
+                the coordinate texture (unfilterable float); binding 2 the interpolation \
+                sources, r32uint (two u16 indices), samples x slices, storage and texture \
+                binding usage."
+    ),
+    pass!(
+        "epipolar_tree",
+        axes: &[],
+        values: &[],
+        usage: "Dispatch epipolar_tree_init ceil(shadow_size / 64) x slices into tree texture 0, \
+                then for l = 1 .. log2(shadow_size) epipolar_tree_level ceil((shadow_size >> l) \
+                / 64) x slices from the tree texture of level l - 1 (binding 2) into the other \
+                (binding 3), with binding 4 a 16-byte uniform whose first u32 is l (0 for \
+                init). Tree textures: r32float, 2 shadow_size x 2 slices (minima in rows \
+                [0, slices), maxima below), storage and texture binding usage; even \
+                levels in texture 0, odd in texture 1. Binding 1 is the \
+                shadow map, a 2D array bound as unfilterable float (one layer per cascade, as \
+                the ESM passes read it)."
+    ),
+    pass!(
+        "epipolar_march",
+        axes: &[Axis::Flag("VOLFOG_EPIPOLAR_BRUTE_FORCE")],
+        values: &[],
+        usage: "Dispatch ceil(samples / 64) x slices workgroups after epipolar_refine and \
+                epipolar_tree. Bindings 4 and 5 are the tree textures 0 and 1 (unfilterable \
+                float); under VOLFOG_EPIPOLAR_BRUTE_FORCE binding 4 is the shadow map (2D \
+                array, unfilterable float) and binding 5 is absent. Binding 6: r32float, samples x slices, \
+                storage and texture binding usage."
+    ),
+    pass!(
+        "epipolar_interpolate",
+        axes: &[],
+        values: &[],
+        usage: "Dispatch ceil(samples / 64) x slices workgroups after epipolar_march. Binding 3: \
+                r32float, samples x slices, storage and texture binding usage."
+    ),
+    pass!(
+        "epipolar_resolve",
+        axes: &[],
+        values: &[],
+        usage: "Dispatch ceil(width / downscale / 8) x ceil(height / downscale / 8) workgroups \
+                after epipolar_interpolate. Binding 6: rgba16float, ceil(width / downscale) x \
+                ceil(height / downscale), storage and texture binding usage; binding 7 a \
+                storage buffer of at least 2 u32 counters (zero them each frame)."
+    ),
+    pass!(
+        "epipolar_upscale",
+        axes: &[],
+        values: &[],
+        usage: "Only when downscale > 1: dispatch ceil(width / 8) x ceil(height / 8) workgroups \
+                after epipolar_resolve. Binding 5, the shaft texture: rgba16float, width x \
+                height, storage and texture binding usage; binding 6 the resolve's counters."
+    ),
+    pass!(
+        "epipolar_reference",
+        axes: &[],
+        values: &[],
+        usage: "The brute-force reference: dispatch ceil(width / 8) x ceil(height / 8) \
+                workgroups; binding 4 is the shaft texture (rgba16float, width x height)."
+    ),
+    pass!(
+        "epipolar_apply",
+        axes: &[],
+        values: &[],
+        usage: "Draw 3 vertices with fullscreen_vs (pass fullscreen), no vertex buffers, onto \
+                the lit colour target (load, no depth attachment). Blend colour: src * One + \
+                dst * SrcAlpha (add); alpha: src * Zero + dst * One (add). Bindings 2 (scene \
+                depth) and 3 (shaft texture) are bound as unfilterable float.",
         render: FULLSCREEN_COMPOSITE
     ),
 ];

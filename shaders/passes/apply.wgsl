@@ -17,12 +17,19 @@
 // Defines: VOLFOG_BINDINGS_NO_SAMPLER — manual trilinear filtering, no sampler binding.
 //          VOLFOG_APPLY_RESOLVED — a multisampled scene (Wenzel 2007): the fog colour
 //          at the resolved view depth, the fog amount averaged over the samples.
+//          VOLFOG_APPLY_EPIPOLAR — the far field: beyond the far plane the tail's sun
+//          light is shadowed by epipolar sun shafts (Yusov 2012); group 1 binding 1 is
+//          the shaft texture (rgba16float, r the shaft term; EpipolarShafts marched
+//          from the far plane in the tail's medium), read with textureLoad.
 
 #import volfog::bindings
-#import volfog::apply::{fog_coord, fog_sample, fog_load, fog_tail, fog_with_tail, fog_view_from_depth, fog_resolved}
+#import volfog::apply::{fog_coord, fog_sample, fog_load, fog_tail, fog_tail_shafts, fog_with_tail, fog_view_from_depth, fog_resolved}
 #import volfog::froxel::{ndc_from_uv, view_from_ndc}
 
 @group(1) @binding(0) var scene_depth: texture_2d<f32>;
+#ifdef VOLFOG_APPLY_EPIPOLAR
+@group(1) @binding(1) var epipolar_shafts: texture_2d<f32>;
+#endif
 
 @fragment
 fn apply_fs(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
@@ -42,7 +49,13 @@ fn apply_fs(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
 #else
     let fog = fog_sample(bindings::fog_integrated, bindings::fog_sampler, coord);
 #endif
-    let total = fog_with_tail(fog, fog_tail(froxels, bindings::fog_far_tail, view));
+#ifdef VOLFOG_APPLY_EPIPOLAR
+    let shafts = textureLoad(epipolar_shafts, vec2<i32>(frag.xy), 0).r;
+    let tail = fog_tail_shafts(froxels, bindings::fog_far_tail, view, shafts);
+#else
+    let tail = fog_tail(froxels, bindings::fog_far_tail, view);
+#endif
+    let total = fog_with_tail(fog, tail);
 #ifdef VOLFOG_APPLY_RESOLVED
     return fog_resolved(total, resolved.g);
 #else

@@ -18,7 +18,8 @@
 //           height-fog tail (fog_tail, a HeightFog given in VIEW space) continues the
 //           fog from the far plane to the shaded point, so distant geometry has no
 //           hard fog edge. At the far plane the tail is empty, so the result is
-//           continuous there.
+//           continuous there. fog_tail_shafts is the same tail with the sun's light
+//           shadowed by the epipolar pass (volfog::epipolar, the far field).
 // MSAA:     a resolved depth buffer averages the depths of a silhouette's samples, and
 //           fog looked up at that average draws an outline around objects. Following
 //           Wenzel 2007 ("Scene depth based rendering and MSAA: Fog"), the pass that
@@ -117,6 +118,18 @@ fn fog_tail(froxels: Froxels, tail: HeightFog, view_pos: vec3<f32>) -> vec4<f32>
     }
     let start = view_pos * (froxels.far / depth);
     return height_fog(tail, start, view_pos - start);
+}
+
+// fog_tail with the sun's light shadowed: the far field of epipolar sun shafts
+// (volfog::epipolar). shafts is the lit fraction F in [0, 1] read from the shaft
+// texture at the pixel (marched in the same HeightFog, view space, from the far plane
+// to the point): the tail's constant colour fills the whole segment, its sun lobe the
+// fraction F of it: vec4((color + sun_color * HG * F) * (1 - T), T). F = 1 (nothing
+// shadows) gives fog_tail exactly; at the far plane both are empty.
+fn fog_tail_shafts(froxels: Froxels, tail: HeightFog, view_pos: vec3<f32>, shafts: f32) -> vec4<f32> {
+    var shadowed = tail;
+    shadowed.sun_color = tail.sun_color * clamp(shafts, 0.0, 1.0);
+    return fog_tail(froxels, shadowed, view_pos);
 }
 
 // The volume's fog followed by the fog behind it (the tail): in-scatter of the tail

@@ -344,3 +344,51 @@ struct FogHull {
     // * quantum; 0 keeps terms whole (rgba32float targets).
     quantum: f32,
 }
+
+// One frame of epipolar sun shafts (Yusov 2012; volfog::epipolar): the camera, the
+// shadow cascade the shafts are marched in, the epipolar sampling and the phase of the
+// sun's light. The medium is a HeightFog in view space (uniform fog: falloff 0).
+struct EpipolarFrame {
+    // Inverse of the camera's projection (clip -> view); standard, reversed or
+    // infinite perspective.
+    view_from_clip: mat4x4<f32>,
+    // Camera view -> light clip space of the shadow cascade (orthographic: a
+    // directional light; x, y in [-1, 1], depth in [0, 1], smaller is nearer the light).
+    light_from_view: mat4x4<f32>,
+    // The epipole: the sun's position in normalised device coordinates (the anti-sun
+    // point when the sun is behind the camera); may lie far outside [-1, 1].
+    light_screen: vec2<f32>,
+    // Size of the full-resolution target, pixels.
+    screen_size: vec2<f32>,
+    // Rayleigh in-scatter colour (linear rgb, radiance * sr per unit extinction),
+    // [0, 1e9]: adds rayleigh * phase_rayleigh(cos) to the sun lobe of the medium.
+    rayleigh: vec3<f32>,
+    // View depth (m) where the march starts: 0 alone, the froxel far plane as the far
+    // field of a froxel volume.
+    start_depth: f32,
+    // Epipolar slices (lines from the epipole to the screen border), [4, 4096].
+    slices: u32,
+    // Samples per slice, a multiple of 128 in [128, 2048].
+    samples: u32,
+    // Initial step between ray-marching samples: 8, 16, 32 or 64.
+    initial_step: u32,
+    // Side of the shadow map in texels: a power of two in [64, 4096].
+    shadow_size: u32,
+    // Array layer of the cascade in the shadow map.
+    cascade: u32,
+    // Downscale factor of the screen-space resolve: 1, 2 or 4.
+    downscale: u32,
+    // Steps of the per-pixel march that corrects pixels the interpolation cannot
+    // serve, [1, 4096].
+    fix_steps: u32,
+    // Phase of the sun lobe: 0 Henyey-Greenstein, 1 Cornette-Shanks.
+    phase_model: u32,
+    // Relative view-depth difference that counts as a depth break, (0, 10].
+    depth_threshold: f32,
+    // Longest view depth (m) a ray is marched to (sky pixels stop here), > start_depth.
+    max_depth: f32,
+    // Steps of the per-pixel brute-force reference march, [1, 65536].
+    reference_steps: u32,
+    // Padding (0).
+    pad: u32,
+}

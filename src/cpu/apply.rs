@@ -104,6 +104,17 @@ pub fn fog_tail(froxels: &Froxels, tail: &HeightFog, view_pos: Vec3) -> Vec4 {
     super::height_fog::height_fog(tail, start, view_pos - start)
 }
 
+/// `fog_tail` with the sun's light shadowed by the epipolar lit fraction `shafts` (the
+/// far field; mirror of `volfog::apply::fog_tail_shafts`): the tail's sun colour scaled
+/// by `shafts` in [0, 1].
+pub fn fog_tail_shafts(froxels: &Froxels, tail: &HeightFog, view_pos: Vec3, shafts: f32) -> Vec4 {
+    let shadowed = HeightFog {
+        sun_color: tail.sun_color * shafts.clamp(0.0, 1.0),
+        ..*tail
+    };
+    fog_tail(froxels, &shadowed, view_pos)
+}
+
 /// The volume's fog followed by the tail behind it.
 pub fn fog_with_tail(fog: Vec4, tail: Vec4) -> Vec4 {
     (fog.truncate() + fog.w * tail.truncate()).extend(fog.w * tail.w)

@@ -8,6 +8,7 @@ pub mod ambient;
 pub mod apply;
 pub mod clouds;
 pub mod density;
+pub mod epipolar;
 pub mod esm;
 pub mod fog_volume;
 pub mod froxel;

@@ -108,6 +108,22 @@ pub fn depth_layout_entries() -> [wgpu::BindGroupLayoutEntry; 1] {
     )]
 }
 
+/// The layout entries of the apply pass's group 1 for an input: the depth (or the
+/// resolved layout) at binding 0 and, for [`ApplyInput::FarField`], the shaft texture
+/// (2D, unfilterable float) at binding 1.
+pub fn input_layout_entries(input: ApplyInput) -> Vec<wgpu::BindGroupLayoutEntry> {
+    let mut entries = depth_layout_entries().to_vec();
+    if input == ApplyInput::FarField {
+        entries.push(texture_entry(
+            1,
+            wgpu::ShaderStages::FRAGMENT,
+            wgpu::TextureViewDimension::D2,
+            false,
+        ));
+    }
+    entries
+}
+
 /// The compiled fullscreen apply pass for one colour format: draws into the caller's
 /// render pass with the fog group at group 0 and a depth group at group 1.
 #[derive(Debug)]
@@ -144,7 +160,8 @@ impl ApplyPipeline {
         let mut defines = filtering.defines();
         defines.extend(input.defines());
         let fs = shader_module(device, "apply", &defines)?;
-        let depth_layout = bind_group_layout(device, "volfog apply depth", &depth_layout_entries());
+        let depth_layout =
+            bind_group_layout(device, "volfog apply depth", &input_layout_entries(input));
         let pipeline = render_pipeline(
             device,
             RenderPipelineDesc {
@@ -203,6 +220,26 @@ impl ApplyPipeline {
             "volfog apply depth",
             &self.depth_layout,
             &[(0, wgpu::BindingResource::TextureView(depth))],
+        )
+    }
+
+    /// Group 1 of an [`ApplyInput::FarField`] pass: the scene depth view and the shaft
+    /// texture's view (`EpipolarShafts::shaft_view`, the same size); build it once per
+    /// pair of textures.
+    pub fn far_field_bind_group(
+        &self,
+        device: &wgpu::Device,
+        depth: &wgpu::TextureView,
+        shafts: &wgpu::TextureView,
+    ) -> wgpu::BindGroup {
+        bind_group(
+            device,
+            "volfog apply far field",
+            &self.depth_layout,
+            &[
+                (0, wgpu::BindingResource::TextureView(depth)),
+                (1, wgpu::BindingResource::TextureView(shafts)),
+            ],
         )
     }
 

@@ -205,7 +205,8 @@ impl HullThicknessPass {
             return Err(HullError::Float32BlendableMissing);
         }
         let defines = match input {
-            crate::options::ApplyInput::Depth => Vec::new(),
+            // The far field changes only the apply pass: hulls read the depth.
+            crate::options::ApplyInput::Depth | crate::options::ApplyInput::FarField => Vec::new(),
             crate::options::ApplyInput::ResolvedLayout => vec!["VOLFOG_HULL_RESOLVED".to_string()],
         };
         let module = shader_module(device, "hull_thickness", &defines)?;

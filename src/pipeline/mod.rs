@@ -10,6 +10,7 @@
 pub mod apply;
 pub mod clouds;
 pub mod cull;
+pub mod epipolar;
 pub mod esm;
 mod fog;
 pub mod hull;

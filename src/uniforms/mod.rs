@@ -24,6 +24,7 @@
 
 mod bytes;
 mod clouds;
+mod epipolar;
 mod fog_volume;
 mod frame;
 pub(crate) mod froxels;
@@ -38,6 +39,7 @@ mod water;
 
 pub use bytes::{to_storage_bytes, to_uniform_bytes};
 pub use clouds::CloudLayer;
+pub use epipolar::{EPIPOLE_LIMIT, EpipolarFrame, EpipolarPhase, EpipolarSampling, EpipolarView};
 pub use fog_volume::FogVolume;
 pub use frame::{FogFrame, FogView, HistoryState};
 pub use froxels::Froxels;

@@ -267,7 +267,7 @@ fn render(
     });
     let depths: Vec<f32> = exact.iter().map(|e| e.depth).collect();
     let depth_view = match input {
-        ApplyInput::Depth => depth_texture(gpu, WIDTH, HEIGHT, &depths)
+        ApplyInput::Depth | ApplyInput::FarField => depth_texture(gpu, WIDTH, HEIGHT, &depths)
             .unwrap()
             .create_view(&wgpu::TextureViewDescriptor {
                 aspect: wgpu::TextureAspect::DepthOnly,

@@ -6,6 +6,7 @@
 mod apply;
 mod clouds;
 mod culling;
+mod epipolar;
 mod esm;
 mod far_plane_seam;
 mod fog_volume;

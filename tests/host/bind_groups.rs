@@ -3,7 +3,7 @@
 //! buffer type, texture sample type and dimension, storage format and access, sampler
 //! type, and a visibility that includes every stage that uses it.
 
-use volfog::options::{CULL_DEFINE, Filtering, InjectOptions};
+use volfog::options::{ApplyInput, CULL_DEFINE, Filtering, InjectOptions};
 use volfog::pipeline::{apply, clouds, cull, esm, hull, inject, noise, scan, sky, temporal};
 use volfog_codegen::Stage;
 use volfog_codegen::reflect::Resource;
@@ -217,21 +217,27 @@ fn runtime_layouts_match_the_shaders() {
             &[(0, inject::InjectPass::layout_entries(&options))],
         );
     }
-    for (name, filtering) in [
-        ("apply@default", Filtering::Sampler),
-        ("apply@BINDINGS_NO_SAMPLER", Filtering::Manual),
-        ("apply@APPLY_RESOLVED", Filtering::Sampler),
-        (
-            "apply@APPLY_RESOLVED+BINDINGS_NO_SAMPLER",
-            Filtering::Manual,
-        ),
-    ] {
+    for v in volfog_codegen::manifest::variants()
+        .into_iter()
+        .filter(|v| v.pass.name == "apply")
+    {
+        let name = v.name.as_str();
+        let filtering = if v.defines.contains(&"VOLFOG_BINDINGS_NO_SAMPLER") {
+            Filtering::Manual
+        } else {
+            Filtering::Sampler
+        };
+        let input = if v.defines.contains(&"VOLFOG_APPLY_EPIPOLAR") {
+            ApplyInput::FarField
+        } else {
+            ApplyInput::Depth
+        };
         let groups = [
             (
                 0,
                 apply::fog_layout_entries(filtering, wgpu::ShaderStages::FRAGMENT),
             ),
-            (1, apply::depth_layout_entries().to_vec()),
+            (1, apply::input_layout_entries(input)),
         ];
         // The apply pass reads the fog group but not its FogView (binding 4).
         checked += check_entries(&variant(name).entries, name, &groups, &[1]);
@@ -246,6 +252,26 @@ fn runtime_layouts_match_the_shaders() {
         "hull_composite@default",
         &[(0, hull::HullCompositePass::layout_entries().to_vec())],
     );
+    {
+        use volfog::pipeline::epipolar::EpipolarShafts as E;
+        for (name, entries) in [
+            ("epipolar_coords@default", E::coords_entries()),
+            ("epipolar_refine@default", E::refine_entries()),
+            ("epipolar_tree@default", E::tree_entries()),
+            ("epipolar_march@default", E::march_entries(false)),
+            (
+                "epipolar_march@EPIPOLAR_BRUTE_FORCE",
+                E::march_entries(true),
+            ),
+            ("epipolar_interpolate@default", E::interpolate_entries()),
+            ("epipolar_resolve@default", E::resolve_entries()),
+            ("epipolar_upscale@default", E::upscale_entries()),
+            ("epipolar_reference@default", E::reference_entries()),
+            ("epipolar_apply@default", E::apply_entries()),
+        ] {
+            checked += check(name, &[(0, entries)]);
+        }
+    }
     checked += check(
         "sky_solve@default",
         &[(0, sky::SkyLight::solve_layout_entries().to_vec())],

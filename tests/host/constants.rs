@@ -168,6 +168,19 @@ fn module_constants_match_their_rust_twins() {
             ],
         ),
         (
+            "volfog::epipolar",
+            &[
+                ("EPIPOLAR_INVALID", cpu::epipolar::INVALID as f64),
+                (
+                    "EPIPOLAR_INVALID_DEPTH",
+                    cpu::epipolar::INVALID_DEPTH as f64,
+                ),
+                ("EPIPOLAR_GROUP", cpu::epipolar::GROUP as f64),
+                ("EPIPOLAR_LIT_DEPTH", cpu::epipolar::LIT_DEPTH as f64),
+                ("EPIPOLAR_BORDER", cpu::epipolar::BORDER as f64),
+            ],
+        ),
+        (
             "volfog::water",
             &[(
                 "WATER_MIN_SHORE_FADE",

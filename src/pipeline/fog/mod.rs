@@ -60,7 +60,7 @@ use crate::uniforms::{
     self, CloudLayer, FogFrame, FogLight, FogLighting, FogMedium, FogView, Froxels, HeightFog,
     HistoryState, LocalVolume, ShadowCascades,
 };
-use resources::{
+pub(crate) use resources::{
     array_view, check_cloud_map, check_density_texture, check_scene_depth, check_shadow_map,
     esm_texture, storage_buffer, texture_bytes, uniform_buffer, volume_texture,
 };
@@ -819,6 +819,26 @@ impl VolumetricFog {
             self.config.apply_filtering,
             format,
             crate::options::ApplyInput::ResolvedLayout,
+        )?)
+    }
+
+    /// The fullscreen apply pass with the far field of epipolar sun shafts: beyond the
+    /// far plane the tail's sun light is shadowed by the shaft term of an
+    /// [`EpipolarShafts`](crate::pipeline::epipolar::EpipolarShafts) prepared with
+    /// `start_depth` = `FogConfig::far`, the frame's tail as its medium and
+    /// `max_depth` at least the camera's far plane. Bind its group 1 with
+    /// [`ApplyPipeline::far_field_bind_group`].
+    pub fn create_apply_far_field(
+        &self,
+        device: &wgpu::Device,
+        format: wgpu::TextureFormat,
+    ) -> Result<ApplyPipeline, FogError> {
+        Ok(ApplyPipeline::with_input(
+            device,
+            &self.fog_layout,
+            self.config.apply_filtering,
+            format,
+            crate::options::ApplyInput::FarField,
         )?)
     }
 

@@ -1,0 +1,55 @@
+// Pass epipolar_march — the lit fraction at every ray-marching sample (Yusov 2012, 6.4):
+// the shaft term of the min/max tree march (Algorithm 2), or under
+// VOLFOG_EPIPOLAR_BRUTE_FORCE of every section of the slice's height map read from the
+// shadow map (Algorithm 1, the same sum), over the sample's 1 - T. Other samples get 1.
+//
+// Dispatch: ceil(samples / 64) x slices workgroups, after epipolar_refine and
+// epipolar_tree.
+// Bindings (group 0):
+//   0 uniform EpipolarFrame
+//   1 uniform HeightFog: the medium, in view space
+//   2 texture_2d<f32>, unfilterable: the coordinate texture
+//   3 texture_2d<u32>: the packed interpolation sources (epipolar_refine)
+//   4 texture_2d<f32>, unfilterable: tree texture 0 (even levels, r32float); under
+//     VOLFOG_EPIPOLAR_BRUTE_FORCE the shadow map, texture_2d_array<f32>
+//   5 texture_2d<f32>, unfilterable: tree texture 1 (odd levels, r32float); absent under
+//     VOLFOG_EPIPOLAR_BRUTE_FORCE
+//   6 storage texture r32float (samples x slices), write: the lit fraction F
+// Defines: VOLFOG_EPIPOLAR_BRUTE_FORCE — march without the tree (reference, benchmark).
+
+#import volfog::types::{EpipolarFrame, HeightFog}
+#import volfog::epipolar::{epipolar_slice_map, epipolar_ray, epipolar_march_tree, epipolar_march_steps, epipolar_lit_fraction, epipolar_unpack_sources}
+
+@group(0) @binding(0) var<uniform> epipolar_frame: EpipolarFrame;
+@group(0) @binding(1) var<uniform> medium: HeightFog;
+@group(0) @binding(2) var coords: texture_2d<f32>;
+@group(0) @binding(3) var source_pairs: texture_2d<u32>;
+#ifdef VOLFOG_EPIPOLAR_BRUTE_FORCE
+@group(0) @binding(4) var shadow_map: texture_2d_array<f32>;
+#else
+@group(0) @binding(4) var tree_even_levels: texture_2d<f32>;
+@group(0) @binding(5) var tree_odd_levels: texture_2d<f32>;
+#endif
+@group(0) @binding(6) var marched: texture_storage_2d<r32float, write>;
+
+@compute @workgroup_size(64, 1, 1)
+fn epipolar_march(@builtin(global_invocation_id) id: vec3<u32>) {
+    if id.x >= epipolar_frame.samples || id.y >= epipolar_frame.slices {
+        return;
+    }
+    let at = vec2<i32>(id.xy);
+    let c = textureLoad(coords, at, 0);
+    let src = epipolar_unpack_sources(textureLoad(source_pairs, at, 0).r);
+    var f = 1.0;
+    if c.w > 0.5 && src.x == src.y {
+        let map = epipolar_slice_map(epipolar_frame, id.y);
+        let ray = epipolar_ray(epipolar_frame, map, c.xy, epipolar_frame.start_depth, c.z);
+#ifdef VOLFOG_EPIPOLAR_BRUTE_FORCE
+        let s = epipolar_march_steps(shadow_map, epipolar_frame.cascade, map, epipolar_frame.shadow_size, medium, ray);
+#else
+        let s = epipolar_march_tree(tree_even_levels, tree_odd_levels, id.y, epipolar_frame.shadow_size, medium, ray);
+#endif
+        f = epipolar_lit_fraction(medium, ray, s);
+    }
+    textureStore(marched, at, vec4<f32>(f, 0.0, 0.0, 0.0));
+}

@@ -1,0 +1,1099 @@
+//! Epipolar sun shafts (Yusov 2012; `volfog::epipolar`): [`EpipolarShafts`] owns the
+//! epipolar textures, the min/max trees and the passes, and turns a depth buffer and a
+//! cascaded shadow map into a shaft texture: alone, composited by its own fullscreen
+//! pass ([`EpipolarApply`]), or as the far field of a
+//! [`VolumetricFog`](super::VolumetricFog) (`VolumetricFog::create_apply_far_field`).
+
+use wgpu::util::DeviceExt;
+
+use super::apply::FOG_BLEND;
+use super::{
+    RenderPipelineDesc, TimestampError, TimestampPairs, bind_group, bind_group_layout,
+    compute_pipeline, render_pipeline, shader_module, storage_buffer_entry, storage_entry,
+    texture_entry, uint_texture_entry, uniform_entry,
+};
+use crate::limits::InvalidValue;
+use crate::shaders::CodegenError;
+use crate::uniforms::{self, EpipolarFrame, EpipolarSampling, EpipolarView, HeightFog};
+
+/// Format of the shaft texture: r the lit fraction F in [0, 1] (the share of the
+/// medium's sun in-scattering along the pixel's ray that the sun reaches: 1 unshadowed),
+/// g the view depth (m), b 1 where a pixel was corrected by a march, a 1.
+pub const SHAFT_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
+/// Formats the depth buffer may have (read as unfilterable float).
+pub const DEPTH_FORMATS: [wgpu::TextureFormat; 5] = super::SCENE_DEPTH_FORMATS;
+/// Formats the shadow map may have (read as unfilterable float, like the ESM passes).
+pub const SHADOW_FORMATS: [wgpu::TextureFormat; 3] = super::SHADOW_MAP_FORMATS;
+
+const COORD_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
+const SOURCE_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Uint;
+const TREE_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Float;
+const TERM_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Float;
+/// Stride of the per-level uniforms of the tree build (the uniform offset alignment).
+const LEVEL_STRIDE: u64 = 256;
+
+/// Errors of [`EpipolarShafts`].
+#[derive(Debug, thiserror::Error)]
+pub enum EpipolarError {
+    /// A value is out of range.
+    #[error(transparent)]
+    Invalid(#[from] InvalidValue),
+    /// A shader failed to compose.
+    #[error(transparent)]
+    Shader(#[from] CodegenError),
+    /// An input texture does not fit the sampling.
+    #[error("{texture}: {property} is {found}, expected {expected}")]
+    Texture {
+        /// Which texture.
+        texture: &'static str,
+        /// The property that does not fit.
+        property: &'static str,
+        /// What it is.
+        found: String,
+        /// What it must be.
+        expected: String,
+    },
+    /// `encode` or `create_apply` before `set_inputs`, or `encode` before `prepare`.
+    #[error("EpipolarShafts: {0} first")]
+    NotReady(&'static str),
+    /// Reading timestamps or counters failed.
+    #[error(transparent)]
+    Timestamp(#[from] TimestampError),
+}
+
+/// Which march fills the shaft texture.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum EpipolarMode {
+    /// Epipolar sampling with the min/max tree march (Yusov's Algorithm 2).
+    #[default]
+    Tree,
+    /// Epipolar sampling, each ray-marching sample visiting every section of its
+    /// slice's height map in the shadow map (Algorithm 1; the same result, slower).
+    Steps,
+    /// No epipolar sampling: every pixel marched with `reference_steps` fixed steps.
+    Reference,
+}
+
+/// The timed passes, in the order of [`EpipolarShafts::read_timings`].
+pub const TIMED_PASSES: [&str; 8] = [
+    "epipolar_coords",
+    "epipolar_refine",
+    "epipolar_tree",
+    "epipolar_march",
+    "epipolar_interpolate",
+    "epipolar_resolve",
+    "epipolar_upscale",
+    "epipolar_reference",
+];
+
+#[derive(Debug)]
+struct Pipelines {
+    coords: (wgpu::BindGroupLayout, wgpu::ComputePipeline),
+    refine: (wgpu::BindGroupLayout, wgpu::ComputePipeline),
+    tree: (
+        wgpu::BindGroupLayout,
+        wgpu::ComputePipeline,
+        wgpu::ComputePipeline,
+    ),
+    march: (wgpu::BindGroupLayout, wgpu::ComputePipeline),
+    steps: (wgpu::BindGroupLayout, wgpu::ComputePipeline),
+    interpolate: (wgpu::BindGroupLayout, wgpu::ComputePipeline),
+    resolve: (wgpu::BindGroupLayout, wgpu::ComputePipeline),
+    upscale: (wgpu::BindGroupLayout, wgpu::ComputePipeline),
+    reference: (wgpu::BindGroupLayout, wgpu::ComputePipeline),
+}
+
+#[derive(Debug)]
+struct Groups {
+    coords: wgpu::BindGroup,
+    refine: wgpu::BindGroup,
+    tree: Vec<wgpu::BindGroup>,
+    march: wgpu::BindGroup,
+    steps: wgpu::BindGroup,
+    interpolate: wgpu::BindGroup,
+    resolve: wgpu::BindGroup,
+    upscale: Option<wgpu::BindGroup>,
+    reference: wgpu::BindGroup,
+    depth: wgpu::TextureView,
+}
+
+#[derive(Debug)]
+struct Textures {
+    coords: wgpu::Texture,
+    sources: wgpu::Texture,
+    tree: [wgpu::Texture; 2],
+    marched: wgpu::Texture,
+    interpolated: wgpu::Texture,
+    low: Option<wgpu::Texture>,
+    shafts: wgpu::Texture,
+}
+
+/// Epipolar sun shafts for one camera and target size.
+///
+/// ```no_run
+/// # fn f(device: &wgpu::Device, queue: &wgpu::Queue, depth: &wgpu::Texture, shadow: &wgpu::Texture, color: &wgpu::TextureView) -> Result<(), volfog::pipeline::epipolar::EpipolarError> {
+/// use glam::{Mat4, Vec3};
+/// use volfog::pipeline::epipolar::{EpipolarMode, EpipolarShafts};
+/// use volfog::uniforms::{EpipolarPhase, EpipolarSampling, EpipolarView, HeightFog};
+///
+/// let mut shafts = EpipolarShafts::new(device, EpipolarSampling::new(1920, 1080, 2048))?;
+/// shafts.set_inputs(device, depth, shadow)?; // again when either texture is recreated
+/// let apply = shafts.create_apply(device, wgpu::TextureFormat::Rgba16Float)?;
+/// let sun = Vec3::new(0.3, 0.4, -0.87).normalize();
+/// let medium = HeightFog::new(Vec3::splat(0.02), 0.01, Vec3::Y, 0.0, 0.0)?
+///     .with_sun(sun, Vec3::splat(2.0), 0.6)?;
+/// let view = EpipolarView {
+///     view_from_world: Mat4::IDENTITY,
+///     clip_from_view: glam::camera::rh::proj::directx::perspective(1.0, 1.78, 0.1, 500.0),
+///     // the cascade's matrix, as for VolumetricFog's ShadowCascades
+///     light_from_world: volfog::pipeline::cascade_projection(sun, Vec3::ZERO, 100.0, 400.0),
+///     cascade: 0,
+///     rayleigh: Vec3::ZERO,
+///     phase: EpipolarPhase::HenyeyGreenstein,
+///     start_depth: 0.0,
+///     max_depth: 500.0,
+/// };
+/// shafts.prepare(queue, &view, &medium)?;
+/// let mut encoder = device.create_command_encoder(&Default::default());
+/// shafts.encode(&mut encoder, EpipolarMode::Tree)?;
+/// shafts.record_apply(&mut encoder, &apply, color);
+/// queue.submit([encoder.finish()]);
+/// # Ok(()) }
+/// ```
+#[derive(Debug)]
+pub struct EpipolarShafts {
+    sampling: EpipolarSampling,
+    prepared: bool,
+    frame: wgpu::Buffer,
+    medium: wgpu::Buffer,
+    levels: wgpu::Buffer,
+    counters: wgpu::Buffer,
+    counters_readback: wgpu::Buffer,
+    textures: Textures,
+    pipelines: Pipelines,
+    groups: Option<Groups>,
+    timestamps: Option<TimestampPairs>,
+}
+
+fn storage_texture(
+    device: &wgpu::Device,
+    label: &str,
+    (width, height): (u32, u32),
+    format: wgpu::TextureFormat,
+) -> wgpu::Texture {
+    device.create_texture(&wgpu::TextureDescriptor {
+        label: Some(label),
+        size: wgpu::Extent3d {
+            width,
+            height,
+            depth_or_array_layers: 1,
+        },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format,
+        usage: wgpu::TextureUsages::STORAGE_BINDING
+            | wgpu::TextureUsages::TEXTURE_BINDING
+            | wgpu::TextureUsages::COPY_SRC,
+        view_formats: &[],
+    })
+}
+
+fn view(texture: &wgpu::Texture) -> wgpu::TextureView {
+    texture.create_view(&Default::default())
+}
+
+const C: wgpu::ShaderStages = wgpu::ShaderStages::COMPUTE;
+const D2: wgpu::TextureViewDimension = wgpu::TextureViewDimension::D2;
+
+fn unfilterable(binding: u32) -> wgpu::BindGroupLayoutEntry {
+    texture_entry(binding, C, D2, false)
+}
+
+fn shadow_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
+    texture_entry(binding, C, wgpu::TextureViewDimension::D2Array, false)
+}
+
+impl EpipolarShafts {
+    /// Layout of `epipolar_coords`: 0 frame, 1 scene depth, 2 coordinates (rgba32float).
+    pub fn coords_entries() -> Vec<wgpu::BindGroupLayoutEntry> {
+        vec![
+            uniform_entry(0, C),
+            unfilterable(1),
+            storage_entry(2, D2, COORD_FORMAT),
+        ]
+    }
+
+    /// Layout of `epipolar_refine`: 0 frame, 1 coordinates, 2 packed sources (r32uint).
+    pub fn refine_entries() -> Vec<wgpu::BindGroupLayoutEntry> {
+        vec![
+            uniform_entry(0, C),
+            unfilterable(1),
+            storage_entry(2, D2, SOURCE_FORMAT),
+        ]
+    }
+
+    /// Layout of `epipolar_tree`: 0 frame, 1 shadow map, 2 previous level, 3 this
+    /// level (r32float), 4 the level uniform.
+    pub fn tree_entries() -> Vec<wgpu::BindGroupLayoutEntry> {
+        vec![
+            uniform_entry(0, C),
+            shadow_entry(1),
+            unfilterable(2),
+            storage_entry(3, D2, TREE_FORMAT),
+            uniform_entry(4, C),
+        ]
+    }
+
+    /// Layout of `epipolar_march` (`steps`: `@EPIPOLAR_BRUTE_FORCE`): 0 frame, 1
+    /// medium, 2 coordinates, 3 sources, 4 tree 0 (the shadow map), 5 tree 1 (absent),
+    /// 6 shaft terms (r32float).
+    pub fn march_entries(steps: bool) -> Vec<wgpu::BindGroupLayoutEntry> {
+        let mut entries = vec![
+            uniform_entry(0, C),
+            uniform_entry(1, C),
+            unfilterable(2),
+            uint_texture_entry(3),
+        ];
+        if steps {
+            entries.push(shadow_entry(4));
+        } else {
+            entries.extend([unfilterable(4), unfilterable(5)]);
+        }
+        entries.push(storage_entry(6, D2, TERM_FORMAT));
+        entries
+    }
+
+    /// Layout of `epipolar_interpolate`: 0 frame, 1 sources, 2 marched, 3 interpolated.
+    pub fn interpolate_entries() -> Vec<wgpu::BindGroupLayoutEntry> {
+        vec![
+            uniform_entry(0, C),
+            uint_texture_entry(1),
+            unfilterable(2),
+            storage_entry(3, D2, TERM_FORMAT),
+        ]
+    }
+
+    /// Layout of `epipolar_resolve`: 0 frame, 1 medium, 2 scene depth, 3 coordinates,
+    /// 4 interpolated, 5 shadow map, 6 resolved (rgba16float), 7 counters.
+    pub fn resolve_entries() -> Vec<wgpu::BindGroupLayoutEntry> {
+        vec![
+            uniform_entry(0, C),
+            uniform_entry(1, C),
+            unfilterable(2),
+            unfilterable(3),
+            unfilterable(4),
+            shadow_entry(5),
+            storage_entry(6, D2, SHAFT_FORMAT),
+            storage_buffer_entry(7, C, false),
+        ]
+    }
+
+    /// Layout of `epipolar_upscale`: 0 frame, 1 medium, 2 scene depth, 3 resolved, 4
+    /// shadow map, 5 shafts (rgba16float), 6 counters.
+    pub fn upscale_entries() -> Vec<wgpu::BindGroupLayoutEntry> {
+        vec![
+            uniform_entry(0, C),
+            uniform_entry(1, C),
+            unfilterable(2),
+            unfilterable(3),
+            shadow_entry(4),
+            storage_entry(5, D2, SHAFT_FORMAT),
+            storage_buffer_entry(6, C, false),
+        ]
+    }
+
+    /// Layout of `epipolar_reference`: 0 frame, 1 medium, 2 scene depth, 3 shadow map,
+    /// 4 shafts (rgba16float).
+    pub fn reference_entries() -> Vec<wgpu::BindGroupLayoutEntry> {
+        vec![
+            uniform_entry(0, C),
+            uniform_entry(1, C),
+            unfilterable(2),
+            shadow_entry(3),
+            storage_entry(4, D2, SHAFT_FORMAT),
+        ]
+    }
+
+    /// Layout of `epipolar_apply`: 0 frame, 1 medium, 2 scene depth, 3 shafts.
+    pub fn apply_entries() -> Vec<wgpu::BindGroupLayoutEntry> {
+        let f = wgpu::ShaderStages::FRAGMENT;
+        vec![
+            uniform_entry(0, f),
+            uniform_entry(1, f),
+            texture_entry(2, f, D2, false),
+            texture_entry(3, f, D2, false),
+        ]
+    }
+
+    /// Allocates the textures and compiles the passes for `sampling`.
+    pub fn new(device: &wgpu::Device, sampling: EpipolarSampling) -> Result<Self, EpipolarError> {
+        sampling.validate()?;
+        let s = &sampling;
+        let epi = (s.samples, s.slices);
+        let textures = Textures {
+            coords: storage_texture(device, "volfog epipolar coordinates", epi, COORD_FORMAT),
+            sources: storage_texture(device, "volfog epipolar sources", epi, SOURCE_FORMAT),
+            tree: [0, 1].map(|i| {
+                storage_texture(
+                    device,
+                    &format!("volfog epipolar tree {i}"),
+                    (2 * s.shadow_size, 2 * s.slices),
+                    TREE_FORMAT,
+                )
+            }),
+            marched: storage_texture(device, "volfog epipolar marched", epi, TERM_FORMAT),
+            interpolated: storage_texture(device, "volfog epipolar interpolated", epi, TERM_FORMAT),
+            low: (s.downscale > 1).then(|| {
+                storage_texture(
+                    device,
+                    "volfog epipolar resolved",
+                    s.resolved_size(),
+                    SHAFT_FORMAT,
+                )
+            }),
+            shafts: storage_texture(
+                device,
+                "volfog epipolar shafts",
+                (s.width, s.height),
+                SHAFT_FORMAT,
+            ),
+        };
+        let compute = |pass: &str, defines: &[String], entry: &str, entries: Vec<_>| {
+            let layout = bind_group_layout(device, pass, &entries);
+            let module = shader_module(device, pass, defines)?;
+            let pipeline = compute_pipeline(device, entry, &module, entry, &layout);
+            Ok::<_, CodegenError>((layout, pipeline))
+        };
+        let tree_layout = bind_group_layout(device, "epipolar_tree", &Self::tree_entries());
+        let tree_module = shader_module(device, "epipolar_tree", &[])?;
+        let tree_init = compute_pipeline(
+            device,
+            "epipolar_tree_init",
+            &tree_module,
+            "epipolar_tree_init",
+            &tree_layout,
+        );
+        let tree_level = compute_pipeline(
+            device,
+            "epipolar_tree_level",
+            &tree_module,
+            "epipolar_tree_level",
+            &tree_layout,
+        );
+        let pipelines = Pipelines {
+            coords: compute(
+                "epipolar_coords",
+                &[],
+                "epipolar_coords",
+                Self::coords_entries(),
+            )?,
+            refine: compute(
+                "epipolar_refine",
+                &[],
+                "epipolar_refine",
+                Self::refine_entries(),
+            )?,
+            tree: (tree_layout, tree_init, tree_level),
+            march: compute(
+                "epipolar_march",
+                &[],
+                "epipolar_march",
+                Self::march_entries(false),
+            )?,
+            steps: compute(
+                "epipolar_march",
+                &["VOLFOG_EPIPOLAR_BRUTE_FORCE".to_string()],
+                "epipolar_march",
+                Self::march_entries(true),
+            )?,
+            interpolate: compute(
+                "epipolar_interpolate",
+                &[],
+                "epipolar_interpolate",
+                Self::interpolate_entries(),
+            )?,
+            resolve: compute(
+                "epipolar_resolve",
+                &[],
+                "epipolar_resolve",
+                Self::resolve_entries(),
+            )?,
+            upscale: compute(
+                "epipolar_upscale",
+                &[],
+                "epipolar_upscale",
+                Self::upscale_entries(),
+            )?,
+            reference: compute(
+                "epipolar_reference",
+                &[],
+                "epipolar_reference",
+                Self::reference_entries(),
+            )?,
+        };
+        let uniform = |label: &str, size: u64| {
+            device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some(label),
+                size,
+                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            })
+        };
+        let top = s.shadow_size.trailing_zeros();
+        let mut level_bytes = vec![0u8; (LEVEL_STRIDE * u64::from(top + 1)) as usize];
+        for l in 0..=top {
+            let at = (LEVEL_STRIDE * u64::from(l)) as usize;
+            level_bytes[at..at + 4].copy_from_slice(&l.to_le_bytes());
+        }
+        let levels = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("volfog epipolar tree levels"),
+            contents: &level_bytes,
+            usage: wgpu::BufferUsages::UNIFORM,
+        });
+        let counters = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("volfog epipolar counters"),
+            size: 16,
+            usage: wgpu::BufferUsages::STORAGE
+                | wgpu::BufferUsages::COPY_DST
+                | wgpu::BufferUsages::COPY_SRC,
+            mapped_at_creation: false,
+        });
+        let counters_readback = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("volfog epipolar counters readback"),
+            size: 16,
+            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let timestamps = device
+            .features()
+            .contains(wgpu::Features::TIMESTAMP_QUERY)
+            .then(|| {
+                TimestampPairs::new(
+                    device,
+                    "volfog epipolar timestamps",
+                    TIMED_PASSES.len() as u32,
+                )
+            });
+        Ok(Self {
+            sampling,
+            prepared: false,
+            frame: uniform(
+                "volfog epipolar frame",
+                uniforms::to_uniform_bytes(&EpipolarFrame::default()).len() as u64,
+            ),
+            medium: uniform(
+                "volfog epipolar medium",
+                HeightFog::default().to_bytes().len() as u64,
+            ),
+            levels,
+            counters,
+            counters_readback,
+            textures,
+            pipelines,
+            groups: None,
+            timestamps,
+        })
+    }
+
+    /// The sampling this object was made for.
+    pub fn sampling(&self) -> &EpipolarSampling {
+        &self.sampling
+    }
+
+    /// Binds the scene depth buffer (`width` x `height`, one of [`DEPTH_FORMATS`],
+    /// single-sampled) and the cascaded shadow map (a 2D texture of side
+    /// `shadow_size`, one layer per cascade, one of [`SHADOW_FORMATS`]); both need
+    /// `TEXTURE_BINDING` usage. Call again when either is recreated.
+    pub fn set_inputs(
+        &mut self,
+        device: &wgpu::Device,
+        depth: &wgpu::Texture,
+        shadow: &wgpu::Texture,
+    ) -> Result<(), EpipolarError> {
+        let s = self.sampling;
+        check_texture(
+            "the depth buffer",
+            depth,
+            &DEPTH_FORMATS,
+            (s.width, s.height),
+        )?;
+        check_texture(
+            "the shadow map",
+            shadow,
+            &SHADOW_FORMATS,
+            (s.shadow_size, s.shadow_size),
+        )?;
+        let aspect = |t: &wgpu::Texture| {
+            if t.format().has_depth_aspect() {
+                wgpu::TextureAspect::DepthOnly
+            } else {
+                wgpu::TextureAspect::All
+            }
+        };
+        let depth_view = depth.create_view(&wgpu::TextureViewDescriptor {
+            dimension: Some(D2),
+            aspect: aspect(depth),
+            ..Default::default()
+        });
+        let shadow_view = shadow.create_view(&wgpu::TextureViewDescriptor {
+            dimension: Some(wgpu::TextureViewDimension::D2Array),
+            aspect: aspect(shadow),
+            ..Default::default()
+        });
+        let t = &self.textures;
+        let p = &self.pipelines;
+        let (coords, sources, marched, interpolated, shafts) = (
+            view(&t.coords),
+            view(&t.sources),
+            view(&t.marched),
+            view(&t.interpolated),
+            view(&t.shafts),
+        );
+        let tree = [view(&t.tree[0]), view(&t.tree[1])];
+        use wgpu::BindingResource as R;
+        let frame = self.frame.as_entire_binding();
+        let medium = self.medium.as_entire_binding();
+        let counters = self.counters.as_entire_binding();
+        let top = s.shadow_size.trailing_zeros();
+        let tree_groups = (0..=top)
+            .map(|l| {
+                // Level l is written to texture l % 2 from the other one.
+                let dst = (l % 2) as usize;
+                bind_group(
+                    device,
+                    "epipolar_tree",
+                    &p.tree.0,
+                    &[
+                        (0, frame.clone()),
+                        (1, R::TextureView(&shadow_view)),
+                        (2, R::TextureView(&tree[1 - dst])),
+                        (3, R::TextureView(&tree[dst])),
+                        (
+                            4,
+                            R::Buffer(wgpu::BufferBinding {
+                                buffer: &self.levels,
+                                offset: LEVEL_STRIDE * u64::from(l),
+                                size: wgpu::BufferSize::new(16),
+                            }),
+                        ),
+                    ],
+                )
+            })
+            .collect();
+        let low = t.low.as_ref().map(view);
+        let resolve_target = low.as_ref().unwrap_or(&shafts);
+        let groups = Groups {
+            coords: bind_group(
+                device,
+                "epipolar_coords",
+                &p.coords.0,
+                &[
+                    (0, frame.clone()),
+                    (1, R::TextureView(&depth_view)),
+                    (2, R::TextureView(&coords)),
+                ],
+            ),
+            refine: bind_group(
+                device,
+                "epipolar_refine",
+                &p.refine.0,
+                &[
+                    (0, frame.clone()),
+                    (1, R::TextureView(&coords)),
+                    (2, R::TextureView(&sources)),
+                ],
+            ),
+            tree: tree_groups,
+            march: bind_group(
+                device,
+                "epipolar_march",
+                &p.march.0,
+                &[
+                    (0, frame.clone()),
+                    (1, medium.clone()),
+                    (2, R::TextureView(&coords)),
+                    (3, R::TextureView(&sources)),
+                    (4, R::TextureView(&tree[0])),
+                    (5, R::TextureView(&tree[1])),
+                    (6, R::TextureView(&marched)),
+                ],
+            ),
+            steps: bind_group(
+                device,
+                "epipolar_march steps",
+                &p.steps.0,
+                &[
+                    (0, frame.clone()),
+                    (1, medium.clone()),
+                    (2, R::TextureView(&coords)),
+                    (3, R::TextureView(&sources)),
+                    (4, R::TextureView(&shadow_view)),
+                    (6, R::TextureView(&marched)),
+                ],
+            ),
+            interpolate: bind_group(
+                device,
+                "epipolar_interpolate",
+                &p.interpolate.0,
+                &[
+                    (0, frame.clone()),
+                    (1, R::TextureView(&sources)),
+                    (2, R::TextureView(&marched)),
+                    (3, R::TextureView(&interpolated)),
+                ],
+            ),
+            resolve: bind_group(
+                device,
+                "epipolar_resolve",
+                &p.resolve.0,
+                &[
+                    (0, frame.clone()),
+                    (1, medium.clone()),
+                    (2, R::TextureView(&depth_view)),
+                    (3, R::TextureView(&coords)),
+                    (4, R::TextureView(&interpolated)),
+                    (5, R::TextureView(&shadow_view)),
+                    (6, R::TextureView(resolve_target)),
+                    (7, counters.clone()),
+                ],
+            ),
+            upscale: low.as_ref().map(|low| {
+                bind_group(
+                    device,
+                    "epipolar_upscale",
+                    &p.upscale.0,
+                    &[
+                        (0, frame.clone()),
+                        (1, medium.clone()),
+                        (2, R::TextureView(&depth_view)),
+                        (3, R::TextureView(low)),
+                        (4, R::TextureView(&shadow_view)),
+                        (5, R::TextureView(&shafts)),
+                        (6, counters.clone()),
+                    ],
+                )
+            }),
+            reference: bind_group(
+                device,
+                "epipolar_reference",
+                &p.reference.0,
+                &[
+                    (0, frame.clone()),
+                    (1, medium.clone()),
+                    (2, R::TextureView(&depth_view)),
+                    (3, R::TextureView(&shadow_view)),
+                    (4, R::TextureView(&shafts)),
+                ],
+            ),
+            depth: depth_view,
+        };
+        self.groups = Some(groups);
+        Ok(())
+    }
+
+    /// Writes the frame: the camera and cascade in `view`, the medium `medium` in
+    /// world space (its `sun_direction` is the light's; uniform fog has falloff 0).
+    /// Returns the frame written.
+    pub fn prepare(
+        &mut self,
+        queue: &wgpu::Queue,
+        view: &EpipolarView,
+        medium: &HeightFog,
+    ) -> Result<EpipolarFrame, EpipolarError> {
+        let frame = EpipolarFrame::new(&self.sampling, view, medium.sun_direction)?;
+        queue.write_buffer(&self.frame, 0, &uniforms::to_uniform_bytes(&frame));
+        queue.write_buffer(
+            &self.medium,
+            0,
+            &EpipolarFrame::medium(medium, view.view_from_world).to_bytes(),
+        );
+        self.prepared = true;
+        Ok(frame)
+    }
+
+    /// Writes a frame built by hand (for example with the epipole placed exactly on
+    /// the screen's edge) and the medium already in view space. The frame's sampling
+    /// fields must be this object's.
+    pub fn prepare_frame(
+        &mut self,
+        queue: &wgpu::Queue,
+        frame: &EpipolarFrame,
+        medium_in_view: &HeightFog,
+    ) -> Result<(), EpipolarError> {
+        let s = &self.sampling;
+        crate::limits::check(
+            (
+                frame.slices,
+                frame.samples,
+                frame.initial_step,
+                frame.shadow_size,
+                frame.downscale,
+            ) == (
+                s.slices,
+                s.samples,
+                s.initial_step,
+                s.shadow_size,
+                s.downscale,
+            ) && frame.screen_size == glam::Vec2::new(s.width as f32, s.height as f32),
+            "EpipolarFrame",
+            (
+                frame.slices,
+                frame.samples,
+                frame.initial_step,
+                frame.shadow_size,
+                frame.downscale,
+            ),
+            "the sampling of this EpipolarShafts (slices, samples, initial_step, shadow_size, downscale, screen_size)",
+        )?;
+        crate::limits::check(
+            frame.light_screen.is_finite()
+                && frame.light_screen.abs().max_element() <= uniforms::EPIPOLE_LIMIT,
+            "EpipolarFrame.light_screen",
+            frame.light_screen,
+            "finite, |x|, |y| <= EPIPOLE_LIMIT",
+        )?;
+        medium_in_view.validate()?;
+        queue.write_buffer(&self.frame, 0, &uniforms::to_uniform_bytes(frame));
+        queue.write_buffer(&self.medium, 0, &medium_in_view.to_bytes());
+        self.prepared = true;
+        Ok(())
+    }
+
+    /// Records the passes that fill the shaft texture ([`EpipolarShafts::shaft_view`]),
+    /// each timed when the device has `TIMESTAMP_QUERY`.
+    pub fn encode(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        mode: EpipolarMode,
+    ) -> Result<(), EpipolarError> {
+        let g = self
+            .groups
+            .as_ref()
+            .ok_or(EpipolarError::NotReady("set_inputs"))?;
+        if !self.prepared {
+            return Err(EpipolarError::NotReady("prepare"));
+        }
+        let s = &self.sampling;
+        let p = &self.pipelines;
+        encoder.clear_buffer(&self.counters, 0, None);
+        let pass = |encoder: &mut wgpu::CommandEncoder,
+                    index: usize,
+                    run: &mut dyn FnMut(&mut wgpu::ComputePass<'_>)| {
+            let mut cp = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: Some(TIMED_PASSES[index]),
+                timestamp_writes: self.timestamps.as_ref().map(|t| t.compute(index as u32)),
+            });
+            run(&mut cp);
+        };
+        let (w, h) = (s.width.div_ceil(8), s.height.div_ceil(8));
+        if mode == EpipolarMode::Reference {
+            pass(encoder, 7, &mut |cp| {
+                cp.set_pipeline(&p.reference.1);
+                cp.set_bind_group(0, &g.reference, &[]);
+                cp.dispatch_workgroups(w, h, 1);
+            });
+            return Ok(());
+        }
+        let per_sample = (s.samples.div_ceil(64), s.slices);
+        pass(encoder, 0, &mut |cp| {
+            cp.set_pipeline(&p.coords.1);
+            cp.set_bind_group(0, &g.coords, &[]);
+            cp.dispatch_workgroups(per_sample.0, per_sample.1, 1);
+        });
+        pass(encoder, 1, &mut |cp| {
+            cp.set_pipeline(&p.refine.1);
+            cp.set_bind_group(0, &g.refine, &[]);
+            cp.dispatch_workgroups(s.samples / 128, s.slices, 1);
+        });
+        if mode == EpipolarMode::Tree {
+            pass(encoder, 2, &mut |cp| {
+                cp.set_pipeline(&p.tree.1);
+                cp.set_bind_group(0, &g.tree[0], &[]);
+                cp.dispatch_workgroups(s.shadow_size.div_ceil(64), s.slices, 1);
+                cp.set_pipeline(&p.tree.2);
+                for (l, group) in g.tree.iter().enumerate().skip(1) {
+                    cp.set_bind_group(0, group, &[]);
+                    cp.dispatch_workgroups((s.shadow_size >> l).div_ceil(64), s.slices, 1);
+                }
+            });
+        }
+        pass(encoder, 3, &mut |cp| {
+            if mode == EpipolarMode::Tree {
+                cp.set_pipeline(&p.march.1);
+                cp.set_bind_group(0, &g.march, &[]);
+            } else {
+                cp.set_pipeline(&p.steps.1);
+                cp.set_bind_group(0, &g.steps, &[]);
+            }
+            cp.dispatch_workgroups(per_sample.0, per_sample.1, 1);
+        });
+        pass(encoder, 4, &mut |cp| {
+            cp.set_pipeline(&p.interpolate.1);
+            cp.set_bind_group(0, &g.interpolate, &[]);
+            cp.dispatch_workgroups(per_sample.0, per_sample.1, 1);
+        });
+        let (lw, lh) = s.resolved_size();
+        pass(encoder, 5, &mut |cp| {
+            cp.set_pipeline(&p.resolve.1);
+            cp.set_bind_group(0, &g.resolve, &[]);
+            cp.dispatch_workgroups(lw.div_ceil(8), lh.div_ceil(8), 1);
+        });
+        if let Some(upscale) = &g.upscale {
+            pass(encoder, 6, &mut |cp| {
+                cp.set_pipeline(&p.upscale.1);
+                cp.set_bind_group(0, upscale, &[]);
+                cp.dispatch_workgroups(w, h, 1);
+            });
+        }
+        encoder.copy_buffer_to_buffer(&self.counters, 0, &self.counters_readback, 0, 16);
+        if let Some(t) = &self.timestamps {
+            t.resolve(encoder);
+        }
+        Ok(())
+    }
+
+    /// The shaft texture ([`SHAFT_FORMAT`], `width` x `height`): r the lit fraction F.
+    pub fn shaft_texture(&self) -> &wgpu::Texture {
+        &self.textures.shafts
+    }
+
+    /// A view of the shaft texture (bind it as unfilterable float).
+    pub fn shaft_view(&self) -> wgpu::TextureView {
+        view(&self.textures.shafts)
+    }
+
+    /// The coordinate texture (rgba32float, samples x slices), for inspection.
+    pub fn coordinate_texture(&self) -> &wgpu::Texture {
+        &self.textures.coords
+    }
+
+    /// The interpolation sources (r32uint, two u16 sample indices, samples x slices),
+    /// for inspection.
+    pub fn source_texture(&self) -> &wgpu::Texture {
+        &self.textures.sources
+    }
+
+    /// The marched lit fractions (r32float, samples x slices; 1 at samples that are not
+    /// marched), for inspection.
+    pub fn marched_texture(&self) -> &wgpu::Texture {
+        &self.textures.marched
+    }
+
+    /// Bytes of every texture and buffer this object owns.
+    pub fn memory_bytes(&self) -> u64 {
+        let t = &self.textures;
+        let textures = [
+            &t.coords,
+            &t.sources,
+            &t.tree[0],
+            &t.tree[1],
+            &t.marched,
+            &t.interpolated,
+            &t.shafts,
+        ]
+        .into_iter()
+        .chain(t.low.as_ref())
+        .map(super::fog::texture_bytes)
+        .sum::<u64>();
+        textures
+            + self.frame.size()
+            + self.medium.size()
+            + self.levels.size()
+            + self.counters.size()
+            + self.counters_readback.size()
+            + self
+                .timestamps
+                .as_ref()
+                .map_or(0, TimestampPairs::buffer_bytes)
+    }
+
+    /// Pixels the last `encode` corrected by a march: (in the resolve, in the upscale).
+    /// Blocks until the GPU is done.
+    pub fn read_corrected(&self, device: &wgpu::Device) -> Result<(u32, u32), EpipolarError> {
+        let slice = self.counters_readback.slice(..);
+        let (tx, rx) = std::sync::mpsc::channel();
+        slice.map_async(wgpu::MapMode::Read, move |r| {
+            let _ = tx.send(r);
+        });
+        let fail =
+            |e: &dyn std::fmt::Display| EpipolarError::Timestamp(TimestampError(e.to_string()));
+        device
+            .poll(wgpu::PollType::wait_indefinitely())
+            .map_err(|e| fail(&e))?;
+        rx.recv().map_err(|e| fail(&e))?.map_err(|e| fail(&e))?;
+        let counts: Vec<u32> = {
+            let data = slice.get_mapped_range().map_err(|e| fail(&e))?;
+            bytemuck::cast_slice::<u8, u32>(&data).to_vec()
+        };
+        self.counters_readback.unmap();
+        Ok((counts[0], counts[1]))
+    }
+
+    /// Milliseconds of each pass of [`TIMED_PASSES`] in the last submitted `encode`
+    /// (0 for passes that did not run); `None` without `TIMESTAMP_QUERY`.
+    pub fn read_timings(
+        &self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+    ) -> Result<Option<Vec<f64>>, EpipolarError> {
+        match &self.timestamps {
+            Some(t) => Ok(Some(t.read_ms(device, queue)?)),
+            None => Ok(None),
+        }
+    }
+
+    /// The fullscreen composite of the shafts alone for colour targets of `format`
+    /// (after `set_inputs`; create it again when the inputs change).
+    pub fn create_apply(
+        &self,
+        device: &wgpu::Device,
+        format: wgpu::TextureFormat,
+    ) -> Result<EpipolarApply, EpipolarError> {
+        let g = self
+            .groups
+            .as_ref()
+            .ok_or(EpipolarError::NotReady("set_inputs"))?;
+        let layout = bind_group_layout(device, "epipolar_apply", &Self::apply_entries());
+        let vs = shader_module(device, "fullscreen", &[])?;
+        let fs = shader_module(device, "epipolar_apply", &[])?;
+        let pipeline = render_pipeline(
+            device,
+            RenderPipelineDesc {
+                label: "volfog epipolar apply",
+                vertex: (&vs, "fullscreen_vs"),
+                fragment: (&fs, "epipolar_apply_fs"),
+                bind_group_layouts: &[Some(&layout)],
+                buffers: &[],
+                primitive: wgpu::PrimitiveState::default(),
+                target: wgpu::ColorTargetState {
+                    format,
+                    blend: Some(FOG_BLEND),
+                    write_mask: wgpu::ColorWrites::ALL,
+                },
+            },
+        );
+        let shafts = self.shaft_view();
+        let group = bind_group(
+            device,
+            "epipolar_apply",
+            &layout,
+            &[
+                (0, self.frame.as_entire_binding()),
+                (1, self.medium.as_entire_binding()),
+                (2, wgpu::BindingResource::TextureView(&g.depth)),
+                (3, wgpu::BindingResource::TextureView(&shafts)),
+            ],
+        );
+        Ok(EpipolarApply {
+            pipeline,
+            group,
+            format,
+        })
+    }
+
+    /// Records a render pass that loads `color` and blends the medium's fog with the
+    /// shafts onto it.
+    pub fn record_apply(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        apply: &EpipolarApply,
+        color: &wgpu::TextureView,
+    ) {
+        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("volfog epipolar apply"),
+            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                view: color,
+                depth_slice: None,
+                resolve_target: None,
+                ops: wgpu::Operations {
+                    load: wgpu::LoadOp::Load,
+                    store: wgpu::StoreOp::Store,
+                },
+            })],
+            depth_stencil_attachment: None,
+            timestamp_writes: None,
+            occlusion_query_set: None,
+            multiview_mask: None,
+        });
+        apply.draw(&mut pass);
+    }
+}
+
+/// The fullscreen composite of [`EpipolarShafts`] for one colour format.
+#[derive(Debug)]
+pub struct EpipolarApply {
+    pipeline: wgpu::RenderPipeline,
+    group: wgpu::BindGroup,
+    format: wgpu::TextureFormat,
+}
+
+impl EpipolarApply {
+    /// The colour target format.
+    pub fn format(&self) -> wgpu::TextureFormat {
+        self.format
+    }
+
+    /// Draws into the caller's render pass (colour attachment: the lit scene, loaded).
+    pub fn draw(&self, pass: &mut wgpu::RenderPass<'_>) {
+        pass.set_pipeline(&self.pipeline);
+        pass.set_bind_group(0, &self.group, &[]);
+        pass.draw(0..3, 0..1);
+    }
+}
+
+fn check_texture(
+    what: &'static str,
+    texture: &wgpu::Texture,
+    formats: &[wgpu::TextureFormat],
+    (width, height): (u32, u32),
+) -> Result<(), EpipolarError> {
+    let fail = |property, found: String, expected: String| {
+        Err(EpipolarError::Texture {
+            texture: what,
+            property,
+            found,
+            expected,
+        })
+    };
+    let size = texture.size();
+    if texture.dimension() != wgpu::TextureDimension::D2 {
+        return fail(
+            "dimension",
+            format!("{:?}", texture.dimension()),
+            "D2".into(),
+        );
+    }
+    if (size.width, size.height) != (width, height) {
+        return fail(
+            "size",
+            format!("{} x {}", size.width, size.height),
+            format!("{width} x {height} (EpipolarSampling)"),
+        );
+    }
+    if !formats.contains(&texture.format()) {
+        return fail(
+            "format",
+            format!("{:?}", texture.format()),
+            format!("one of {formats:?}"),
+        );
+    }
+    if texture.sample_count() != 1 {
+        return fail(
+            "sample count",
+            texture.sample_count().to_string(),
+            "1".into(),
+        );
+    }
+    if !texture
+        .usage()
+        .contains(wgpu::TextureUsages::TEXTURE_BINDING)
+    {
+        return fail(
+            "usage",
+            format!("{:?}", texture.usage()),
+            "TEXTURE_BINDING".into(),
+        );
+    }
+    Ok(())
+}
