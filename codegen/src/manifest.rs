@@ -474,25 +474,27 @@ pub const PASSES: &[PassSource] = &[
         "epipolar_tree",
         axes: &[],
         values: &[],
-        usage: "Dispatch epipolar_tree_init ceil(shadow_size / 64) x slices into tree texture 0, \
-                then for l = 1 .. log2(shadow_size) epipolar_tree_level ceil((shadow_size >> l) \
-                / 64) x slices from the tree texture of level l - 1 (binding 2) into the other \
-                (binding 3), with binding 4 a 16-byte uniform whose first u32 is l (0 for \
-                init). Tree textures: r32float, 2 shadow_size x 2 slices (minima in rows \
-                [0, slices), maxima below), storage and texture binding usage; even \
-                levels in texture 0, odd in texture 1. Binding 1 is the \
-                shadow map, a 2D array bound as unfilterable float (one layer per cascade, as \
-                the ESM passes read it)."
+        usage: "Dispatch epipolar_tree_init ceil(shadow_size / 128) x slices with the tree \
+                texture at binding 3 (rgba32float, shadow_size x slices, storage, texture \
+                binding and copy-destination usage) and the scratch texture at binding 2 \
+                (rgba32float, shadow_size / 4 x slices, storage, texture binding and copy \
+                source usage). Then for l = 1 .. log2(shadow_size): epipolar_tree_level \
+                ceil(max(shadow_size >> l, 2) / 128) x slices with the tree texture at \
+                binding 2 and the scratch texture at binding 3, then copy the scratch \
+                texels [0, max(shadow_size >> l, 2) / 2) of every row to the tree texture \
+                at texel (2 shadow_size - (2 shadow_size >> l)) / 2. Binding 4 is a 16-byte \
+                uniform whose first u32 is l (0 for init). Binding 1 is the shadow map, a \
+                2D array bound as unfilterable float (one layer per cascade, as the ESM \
+                passes read it)."
     ),
     pass!(
         "epipolar_march",
         axes: &[Axis::Flag("VOLFOG_EPIPOLAR_BRUTE_FORCE")],
         values: &[],
         usage: "Dispatch ceil(samples / 64) x slices workgroups after epipolar_refine and \
-                epipolar_tree. Bindings 4 and 5 are the tree textures 0 and 1 (unfilterable \
-                float); under VOLFOG_EPIPOLAR_BRUTE_FORCE binding 4 is the shadow map (2D \
-                array, unfilterable float) and binding 5 is absent. Binding 6: r32float, samples x slices, \
-                storage and texture binding usage."
+                epipolar_tree. Binding 4 is the tree texture (unfilterable float); under \
+                VOLFOG_EPIPOLAR_BRUTE_FORCE the shadow map (2D array, unfilterable float). \
+                Binding 5: r32float, samples x slices, storage and texture binding usage."
     ),
     pass!(
         "epipolar_interpolate",

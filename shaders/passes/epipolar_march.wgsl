@@ -10,11 +10,9 @@
 //   1 uniform HeightFog: the medium, in view space
 //   2 texture_2d<f32>, unfilterable: the coordinate texture
 //   3 texture_2d<u32>: the packed interpolation sources (epipolar_refine)
-//   4 texture_2d<f32>, unfilterable: tree texture 0 (even levels, r32float); under
-//     VOLFOG_EPIPOLAR_BRUTE_FORCE the shadow map, texture_2d_array<f32>
-//   5 texture_2d<f32>, unfilterable: tree texture 1 (odd levels, r32float); absent under
-//     VOLFOG_EPIPOLAR_BRUTE_FORCE
-//   6 storage texture r32float (samples x slices), write: the lit fraction F
+//   4 texture_2d<f32>, unfilterable: the tree texture (epipolar_tree, rgba32float);
+//     under VOLFOG_EPIPOLAR_BRUTE_FORCE the shadow map, texture_2d_array<f32>
+//   5 storage texture r32float (samples x slices), write: the lit fraction F
 // Defines: VOLFOG_EPIPOLAR_BRUTE_FORCE — march without the tree (reference, benchmark).
 
 #import volfog::types::{EpipolarFrame, HeightFog}
@@ -27,10 +25,9 @@
 #ifdef VOLFOG_EPIPOLAR_BRUTE_FORCE
 @group(0) @binding(4) var shadow_map: texture_2d_array<f32>;
 #else
-@group(0) @binding(4) var tree_even_levels: texture_2d<f32>;
-@group(0) @binding(5) var tree_odd_levels: texture_2d<f32>;
+@group(0) @binding(4) var tree_levels: texture_2d<f32>;
 #endif
-@group(0) @binding(6) var marched: texture_storage_2d<r32float, write>;
+@group(0) @binding(5) var marched: texture_storage_2d<r32float, write>;
 
 @compute @workgroup_size(64, 1, 1)
 fn epipolar_march(@builtin(global_invocation_id) id: vec3<u32>) {
@@ -45,9 +42,9 @@ fn epipolar_march(@builtin(global_invocation_id) id: vec3<u32>) {
         let map = epipolar_slice_map(epipolar_frame, id.y);
         let ray = epipolar_ray(epipolar_frame, map, c.xy, epipolar_frame.start_depth, c.z);
 #ifdef VOLFOG_EPIPOLAR_BRUTE_FORCE
-        let s = epipolar_march_steps(shadow_map, epipolar_frame.cascade, map, epipolar_frame.shadow_size, medium, ray);
+        let s = epipolar_march_steps(shadow_map, epipolar_frame.cascade, map, epipolar_frame.shadow_size, epipolar_frame.depth_bias, medium, ray);
 #else
-        let s = epipolar_march_tree(tree_even_levels, tree_odd_levels, id.y, epipolar_frame.shadow_size, medium, ray);
+        let s = epipolar_march_tree(tree_levels, id.y, epipolar_frame.shadow_size, medium, ray);
 #endif
         f = epipolar_lit_fraction(medium, ray, s);
     }

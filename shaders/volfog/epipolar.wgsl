@@ -19,8 +19,8 @@
 //           lies in the plane of the camera and the sun direction, so its projection
 //           into the shadow map runs along one half-line from the camera's texel: the
 //           slice's 1D height map h(k), k = 0 .. shadow_size - 1, is the shadow depth at
-//           the texel under origin + (k + 0.5) dir (dir one texel long in its larger
-//           axis; outside the map h = 2, lit). Section k of a ray is the part whose
+//           the texel under origin + (k + 0.5) dir plus EpipolarFrame.depth_bias (dir
+//           one texel long in its larger axis; outside the map h = 2, lit). Section k of a ray is the part whose
 //           projection lies in [k, k + 1); it is lit when the light depth at its
 //           middle is <= h(k). A min/max binary tree over h (level l holds min and max of
 //           2^l entries) lets the march decide long sections at once (Yusov's
@@ -309,14 +309,15 @@ fn epipolar_slice_map(frame: EpipolarFrame, slice: u32) -> vec4<f32> {
     return vec4<f32>(o.xy, dir);
 }
 
-// h(k): the shadow depth under entry k of a slice's height map (EPIPOLAR_LIT_DEPTH off
-// the map). `shadow` holds the cascades as array layers of side `size`.
-fn epipolar_height(shadow: texture_2d_array<f32>, layer: u32, map: vec4<f32>, k: u32, size: u32) -> f32 {
+// h(k): the shadow depth under entry k of a slice's height map plus the depth bias
+// (EPIPOLAR_LIT_DEPTH off the map). `shadow` holds the cascades as array layers of side
+// `size`.
+fn epipolar_height(shadow: texture_2d_array<f32>, layer: u32, map: vec4<f32>, k: u32, size: u32, bias: f32) -> f32 {
     let q = floor(map.xy + (f32(k) + 0.5) * map.zw);
     if any(q < vec2<f32>(0.0)) || any(q >= vec2<f32>(f32(size))) {
         return EPIPOLAR_LIT_DEPTH;
     }
-    return textureLoad(shadow, vec2<i32>(q), i32(layer), 0).r;
+    return textureLoad(shadow, vec2<i32>(q), i32(layer), 0).r + bias;
 }
 
 // The segment of the view ray through ndc from view depth depth0 to depth1 (m) on a
@@ -371,12 +372,12 @@ fn epipolar_level_offset(size: u32, level: u32) -> u32 {
 // Shaft term S of a ray visiting every section of the slice's height map, read from
 // the shadow map (Yusov 2012, Algorithm 1). Rays whose projection is shorter than a
 // texel take one section.
-fn epipolar_march_steps(shadow: texture_2d_array<f32>, layer: u32, map: vec4<f32>, size: u32, fog: HeightFog, ray: EpipolarRay) -> f32 {
+fn epipolar_march_steps(shadow: texture_2d_array<f32>, layer: u32, map: vec4<f32>, size: u32, bias: f32, fog: HeightFog, ray: EpipolarRay) -> f32 {
     if ray.end - ray.start < 1.0 {
         let k = u32(clamp(floor(0.5 * (ray.start + ray.end)), 0.0, f32(size)));
         var h = EPIPOLAR_LIT_DEPTH;
         if k < size {
-            h = epipolar_height(shadow, layer, map, k, size);
+            h = epipolar_height(shadow, layer, map, k, size, bias);
         }
         let lit = epipolar_lit(ray, 0.0, 1.0, h);
         return select(0.0, 1.0 - epipolar_transmittance(fog, ray, 1.0), lit);
@@ -389,7 +390,7 @@ fn epipolar_march_steps(shadow: texture_2d_array<f32>, layer: u32, map: vec4<f32
     while ta < stop && k < size {
         let tb = min(epipolar_ray_fraction(ray, f32(k + 1u)), stop);
         let t_at_b = epipolar_transmittance(fog, ray, tb);
-        if epipolar_lit(ray, ta, tb, epipolar_height(shadow, layer, map, k, size)) {
+        if epipolar_lit(ray, ta, tb, epipolar_height(shadow, layer, map, k, size, bias)) {
             sum += t_at_a - t_at_b;
         }
         ta = tb;
@@ -400,18 +401,14 @@ fn epipolar_march_steps(shadow: texture_2d_array<f32>, layer: u32, map: vec4<f32
     return sum + t_at_a - epipolar_transmittance(fog, ray, 1.0);
 }
 
-// min and max of tree node `index` of level `level` of slice `slice`: row `slice` holds
-// the minima and row slices + `slice` the maxima; even levels live in tree_even, odd
-// levels in tree_odd (the ping-pong textures of the build).
-fn epipolar_tree_node(tree_even: texture_2d<f32>, tree_odd: texture_2d<f32>, slice: u32, size: u32, level: u32, index: u32) -> vec2<f32> {
-    let x = i32(epipolar_level_offset(size, level) + index);
-    let rows = i32(textureDimensions(tree_even).y) / 2;
-    let lo = vec2<i32>(x, i32(slice));
-    let hi = vec2<i32>(x, i32(slice) + rows);
-    if (level & 1u) == 0u {
-        return vec2<f32>(textureLoad(tree_even, lo, 0).r, textureLoad(tree_even, hi, 0).r);
-    }
-    return vec2<f32>(textureLoad(tree_odd, lo, 0).r, textureLoad(tree_odd, hi, 0).r);
+// min and max of tree node `index` of level `level` of slice `slice`. Row `slice` of
+// the tree texture (rgba32float) holds the slice's levels one after the other, two
+// nodes per texel: node n of the row (n = epipolar_level_offset(size, level) + index)
+// in texel n / 2, as (min, max) in xy for even n and in zw for odd n.
+fn epipolar_tree_node(tree: texture_2d<f32>, slice: u32, size: u32, level: u32, index: u32) -> vec2<f32> {
+    let n = epipolar_level_offset(size, level) + index;
+    let texel = textureLoad(tree, vec2<i32>(i32(n >> 1u), i32(slice)), 0);
+    return select(texel.xy, texel.zw, (n & 1u) == 1u);
 }
 
 // Interpolation sources packed in one u32 (first in the low 16 bits), as the refine
@@ -429,12 +426,12 @@ fn epipolar_unpack_sources(packed: u32) -> vec2<u32> {
 // climb while the position is aligned to the parent's size, then descend until a node
 // is wholly lit (max light depth of the part <= node min), wholly shadowed (min light
 // depth > node max) or a single section; the same sum as epipolar_march_steps.
-fn epipolar_march_tree(tree_even: texture_2d<f32>, tree_odd: texture_2d<f32>, slice: u32, size: u32, fog: HeightFog, ray: EpipolarRay) -> f32 {
+fn epipolar_march_tree(tree: texture_2d<f32>, slice: u32, size: u32, fog: HeightFog, ray: EpipolarRay) -> f32 {
     if ray.end - ray.start < 1.0 {
         let k = u32(clamp(floor(0.5 * (ray.start + ray.end)), 0.0, f32(size)));
         var h = EPIPOLAR_LIT_DEPTH;
         if k < size {
-            h = epipolar_tree_node(tree_even, tree_odd, slice, size, 0u, k).x;
+            h = epipolar_tree_node(tree, slice, size, 0u, k).x;
         }
         let lit = epipolar_lit(ray, 0.0, 1.0, h);
         return select(0.0, 1.0 - epipolar_transmittance(fog, ray, 1.0), lit);
@@ -444,8 +441,10 @@ fn epipolar_march_tree(tree_even: texture_2d<f32>, tree_odd: texture_2d<f32>, sl
     var k = u32(max(floor(ray.start), 0.0));
     var level = 0u;
     var ta = 0.0;
-    var t_at_a = 1.0;
-    var fresh = true;
+    // Consecutive lit nodes form one run [lit_from, ta]: its share T(lit_from) - T(ta)
+    // is taken once, when a shadowed node (or the end) closes it.
+    var lit_from = 0.0;
+    var open = false;
     var sum = 0.0;
     var guard = 0u;
     while ta < stop && k < size && guard < 8u * size {
@@ -461,7 +460,7 @@ fn epipolar_march_tree(tree_even: texture_2d<f32>, tree_odd: texture_2d<f32>, sl
             tb = min(epipolar_ray_fraction(ray, f32(k + n)), stop);
             let da = mix(ray.light_start, ray.light_end, ta);
             let db = mix(ray.light_start, ray.light_end, tb);
-            let node = epipolar_tree_node(tree_even, tree_odd, slice, size, level, k >> level);
+            let node = epipolar_tree_node(tree, slice, size, level, k >> level);
             if max(da, db) <= node.x {
                 lit = true;
                 break;
@@ -475,24 +474,21 @@ fn epipolar_march_tree(tree_even: texture_2d<f32>, tree_odd: texture_2d<f32>, sl
             }
             level -= 1u;
         }
-        if lit {
-            if !fresh {
-                t_at_a = epipolar_transmittance(fog, ray, ta);
-            }
-            let t_at_b = epipolar_transmittance(fog, ray, tb);
-            sum += t_at_a - t_at_b;
-            t_at_a = t_at_b;
-            fresh = true;
-        } else {
-            fresh = false;
+        if lit && !open {
+            lit_from = ta;
+            open = true;
+        } else if !lit && open {
+            sum += epipolar_transmittance(fog, ray, lit_from) - epipolar_transmittance(fog, ray, ta);
+            open = false;
         }
         ta = tb;
         k += 1u << level;
     }
-    if !fresh {
-        t_at_a = epipolar_transmittance(fog, ray, ta);
+    // Beyond the map everything is lit: the remainder joins an open run.
+    if !open {
+        lit_from = ta;
     }
-    return sum + t_at_a - epipolar_transmittance(fog, ray, 1.0);
+    return sum + epipolar_transmittance(fog, ray, lit_from) - epipolar_transmittance(fog, ray, 1.0);
 }
 
 // Lit fraction F (see epipolar_lit_fraction) of the view ray through ndc from view
@@ -516,7 +512,7 @@ fn epipolar_march_pixel(shadow: texture_2d_array<f32>, frame: EpipolarFrame, fog
         let q = floor(l.xy);
         var h = EPIPOLAR_LIT_DEPTH;
         if all(q >= vec2<f32>(0.0)) && all(q < vec2<f32>(size)) {
-            h = textureLoad(shadow, vec2<i32>(q), i32(frame.cascade), 0).r;
+            h = textureLoad(shadow, vec2<i32>(q), i32(frame.cascade), 0).r + frame.depth_bias;
         }
         let t_at_b = epipolar_transmittance(fog, ray, tb);
         if l.z <= h {

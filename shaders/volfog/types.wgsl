@@ -389,6 +389,7 @@ struct EpipolarFrame {
     max_depth: f32,
     // Steps of the per-pixel brute-force reference march, [1, 65536].
     reference_steps: u32,
-    // Padding (0).
-    pad: u32,
+    // Added to every shadow depth before the lit test (light depth units, [0, 1]):
+    // the usual shadow-map bias against acne where a ray ends on a receiver.
+    depth_bias: f32,
 }

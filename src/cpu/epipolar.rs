@@ -118,7 +118,7 @@ impl MinMaxTree {
             let at = row * slice as usize;
             let map = slice_map(frame, slice);
             for x in 0..size {
-                let h = height(shadow, map, x);
+                let h = height(shadow, map, x, frame.depth_bias);
                 nodes[at + x as usize] = Vec2::new(h, h);
             }
             for level in 1..=size.trailing_zeros() {
@@ -387,13 +387,13 @@ pub fn slice_map(frame: &EpipolarFrame, slice: u32) -> Vec4 {
 /// h(k): the shadow depth under entry `k` of a slice's height map `map`
 /// ([`LIT_DEPTH`] off the map, side `shadow.size`); mirror of
 /// `volfog::epipolar::epipolar_height`.
-pub fn height(shadow: &ShadowLayer, map: Vec4, k: u32) -> f32 {
+pub fn height(shadow: &ShadowLayer, map: Vec4, k: u32, bias: f32) -> f32 {
     let size = shadow.size;
     let q = (map.xy() + (k as f32 + 0.5) * map.zw()).floor();
     if q.cmplt(Vec2::ZERO).any() || q.cmpge(Vec2::splat(size as f32)).any() {
         return LIT_DEPTH;
     }
-    shadow.load(q.x as u32, q.y as u32)
+    shadow.load(q.x as u32, q.y as u32) + bias
 }
 
 /// The segment of the view ray through `ndc` from view depth `depth0` to `depth1` (m) on
@@ -450,14 +450,20 @@ pub fn level_offset(size: u32, level: u32) -> u32 {
 /// Shaft term S (dimensionless) of `ray` visiting every section of the height map `map`
 /// read from `shadow` (Yusov 2012, Algorithm 1); mirror of
 /// `volfog::epipolar::epipolar_march_steps`.
-pub fn march_steps(shadow: &ShadowLayer, map: Vec4, fog: &HeightFog, ray: &EpipolarRay) -> f32 {
+pub fn march_steps(
+    shadow: &ShadowLayer,
+    map: Vec4,
+    bias: f32,
+    fog: &HeightFog,
+    ray: &EpipolarRay,
+) -> f32 {
     let size = shadow.size;
     if ray.end - ray.start < 1.0 {
         let k = (0.5 * (ray.start + ray.end))
             .floor()
             .clamp(0.0, size as f32) as u32;
         let h = if k < size {
-            height(shadow, map, k)
+            height(shadow, map, k, bias)
         } else {
             LIT_DEPTH
         };
@@ -476,7 +482,7 @@ pub fn march_steps(shadow: &ShadowLayer, map: Vec4, fog: &HeightFog, ray: &Epipo
     while ta < stop && k < size {
         let tb = ray_fraction(ray, (k + 1) as f32).min(stop);
         let t_at_b = transmittance(fog, ray, tb);
-        if lit(ray, ta, tb, height(shadow, map, k)) {
+        if lit(ray, ta, tb, height(shadow, map, k, bias)) {
             sum += t_at_a - t_at_b;
         }
         ta = tb;
@@ -511,8 +517,9 @@ pub fn march_tree(tree: &MinMaxTree, slice: u32, fog: &HeightFog, ray: &Epipolar
     let mut k = ray.start.floor().max(0.0) as u32;
     let mut level = 0u32;
     let mut ta = 0.0f32;
-    let mut t_at_a = 1.0f32;
-    let mut fresh = true;
+    // Consecutive lit nodes form one run [lit_from, ta], taken once when it closes.
+    let mut lit_from = 0.0f32;
+    let mut open = false;
     let mut sum = 0.0f32;
     let mut guard = 0u32;
     while ta < stop && k < size && guard < 8 * size {
@@ -542,24 +549,21 @@ pub fn march_tree(tree: &MinMaxTree, slice: u32, fog: &HeightFog, ray: &Epipolar
             }
             level -= 1;
         }
-        if is_lit {
-            if !fresh {
-                t_at_a = transmittance(fog, ray, ta);
-            }
-            let t_at_b = transmittance(fog, ray, tb);
-            sum += t_at_a - t_at_b;
-            t_at_a = t_at_b;
-            fresh = true;
-        } else {
-            fresh = false;
+        if is_lit && !open {
+            lit_from = ta;
+            open = true;
+        } else if !is_lit && open {
+            sum += transmittance(fog, ray, lit_from) - transmittance(fog, ray, ta);
+            open = false;
         }
         ta = tb;
         k += 1u32 << level;
     }
-    if !fresh {
-        t_at_a = transmittance(fog, ray, ta);
+    // Beyond the map everything is lit: the remainder joins an open run.
+    if !open {
+        lit_from = ta;
     }
-    sum + t_at_a - transmittance(fog, ray, 1.0)
+    sum + transmittance(fog, ray, lit_from) - transmittance(fog, ray, 1.0)
 }
 
 /// Lit fraction F (see [`lit_fraction`]) of the view ray through `ndc` from view depth
@@ -591,7 +595,7 @@ pub fn march_pixel(
         let q = l.xy().floor();
         let mut h = LIT_DEPTH;
         if q.cmpge(Vec2::ZERO).all() && q.cmplt(Vec2::splat(size)).all() {
-            h = shadow.load(q.x as u32, q.y as u32);
+            h = shadow.load(q.x as u32, q.y as u32) + frame.depth_bias;
         }
         let t_at_b = transmittance(fog, &ray, tb);
         if l.z <= h {
@@ -1044,6 +1048,7 @@ mod tests {
                 phase: Default::default(),
                 start_depth: 0.0,
                 max_depth: 1000.0,
+                depth_bias: 0.0,
             };
             let sampling = EpipolarSampling::new(1280, 720, size);
             let frame = EpipolarFrame::new(&sampling, &view, sun).unwrap();
@@ -1181,7 +1186,7 @@ mod tests {
                     let map = slice_map(frame, j);
                     let r = ray(frame, map, p, depth0, depth1);
                     let by_tree = f64::from(march_tree(&tree, j, &fog, &r));
-                    let by_steps = f64::from(march_steps(&shadow, map, &fog, &r));
+                    let by_steps = f64::from(march_steps(&shadow, map, frame.depth_bias, &fog, &r));
                     let reference = algorithm_1(&shadow, map, &r, f64::from(sigma));
                     let full = 1.0 - (-f64::from(sigma) * r.segment.as_dvec3().length()).exp();
                     let scale = by_steps.abs().max(reference.abs()).max(FLOOR);
@@ -1274,7 +1279,7 @@ mod tests {
                         * mean;
                     let want = -(-od).exp_m1();
                     let by_tree = f64::from(march_tree(&tree, j, &fog, &r));
-                    let by_steps = f64::from(march_steps(&shadow, map, &fog, &r));
+                    let by_steps = f64::from(march_steps(&shadow, map, frame.depth_bias, &fog, &r));
                     // march_pixel gives the lit fraction: 1 without shadows.
                     let by_pixel =
                         want * f64::from(march_pixel(&shadow, frame, &fog, p, depth0, depth1, 64));
@@ -1303,7 +1308,9 @@ mod tests {
         assert_eq!(level_offset(size, size.trailing_zeros()), 2 * size - 2);
         for slice in [0, 1, 77, frame.slices - 1] {
             let map = slice_map(frame, slice);
-            let h: Vec<f32> = (0..size).map(|k| height(&scene.layer(), map, k)).collect();
+            let h: Vec<f32> = (0..size)
+                .map(|k| height(&scene.layer(), map, k, 0.0))
+                .collect();
             for level in 0..=size.trailing_zeros() {
                 for (index, part) in h.chunks(1 << level).enumerate() {
                     let lo = part.iter().copied().fold(f32::INFINITY, f32::min);

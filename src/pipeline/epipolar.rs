@@ -27,7 +27,7 @@ pub const SHADOW_FORMATS: [wgpu::TextureFormat; 3] = super::SHADOW_MAP_FORMATS;
 
 const COORD_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
 const SOURCE_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Uint;
-const TREE_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Float;
+const TREE_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
 const TERM_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Float;
 /// Stride of the per-level uniforms of the tree build (the uniform offset alignment).
 const LEVEL_STRIDE: u64 = 256;
@@ -74,17 +74,67 @@ pub enum EpipolarMode {
     Reference,
 }
 
-/// The timed passes, in the order of [`EpipolarShafts::read_timings`].
-pub const TIMED_PASSES: [&str; 8] = [
-    "epipolar_coords",
-    "epipolar_refine",
-    "epipolar_tree",
-    "epipolar_march",
-    "epipolar_interpolate",
-    "epipolar_resolve",
-    "epipolar_upscale",
-    "epipolar_reference",
-];
+/// The passes of [`EpipolarShafts`], in the order of [`EpipolarShafts::read_timings`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum EpipolarPass {
+    /// `epipolar_coords`: the coordinate texture.
+    Coords,
+    /// `epipolar_refine`: the ray-marching samples and interpolation sources.
+    Refine,
+    /// `epipolar_tree`: the 1D min/max trees (every level).
+    Tree,
+    /// `epipolar_march`: the march of the ray-marching samples.
+    March,
+    /// `epipolar_interpolate`: the other samples.
+    Interpolate,
+    /// `epipolar_resolve`: back to the (downscaled) screen.
+    Resolve,
+    /// `epipolar_upscale`: to full resolution (downscale > 1).
+    Upscale,
+    /// `epipolar_reference`: the per-pixel brute-force march.
+    Reference,
+}
+
+impl EpipolarPass {
+    /// Every pass, in timing order.
+    pub const ALL: [EpipolarPass; 8] = [
+        Self::Coords,
+        Self::Refine,
+        Self::Tree,
+        Self::March,
+        Self::Interpolate,
+        Self::Resolve,
+        Self::Upscale,
+        Self::Reference,
+    ];
+
+    /// The pass's name (its WGSL file).
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Coords => "epipolar_coords",
+            Self::Refine => "epipolar_refine",
+            Self::Tree => "epipolar_tree",
+            Self::March => "epipolar_march",
+            Self::Interpolate => "epipolar_interpolate",
+            Self::Resolve => "epipolar_resolve",
+            Self::Upscale => "epipolar_upscale",
+            Self::Reference => "epipolar_reference",
+        }
+    }
+
+    /// The passes `mode` runs, in order, for a resolve downscaled by `downscale`.
+    pub fn of(mode: EpipolarMode, downscale: u32) -> Vec<EpipolarPass> {
+        match mode {
+            EpipolarMode::Reference => vec![Self::Reference],
+            EpipolarMode::Tree | EpipolarMode::Steps => Self::ALL[..7]
+                .iter()
+                .copied()
+                .filter(|p| !(*p == Self::Tree && mode == EpipolarMode::Steps))
+                .filter(|p| !(*p == Self::Upscale && downscale == 1))
+                .collect(),
+        }
+    }
+}
 
 #[derive(Debug)]
 struct Pipelines {
@@ -121,7 +171,10 @@ struct Groups {
 struct Textures {
     coords: wgpu::Texture,
     sources: wgpu::Texture,
-    tree: [wgpu::Texture; 2],
+    /// Every level of every slice's tree, two nodes per texel.
+    tree: wgpu::Texture,
+    /// One level while it is built (copied into `tree`).
+    scratch: wgpu::Texture,
     marched: wgpu::Texture,
     interpolated: wgpu::Texture,
     low: Option<wgpu::Texture>,
@@ -152,6 +205,7 @@ struct Textures {
 ///     phase: EpipolarPhase::HenyeyGreenstein,
 ///     start_depth: 0.0,
 ///     max_depth: 500.0,
+///     depth_bias: 0.001,
 /// };
 /// shafts.prepare(queue, &view, &medium)?;
 /// let mut encoder = device.create_command_encoder(&Default::default());
@@ -194,7 +248,8 @@ fn storage_texture(
         format,
         usage: wgpu::TextureUsages::STORAGE_BINDING
             | wgpu::TextureUsages::TEXTURE_BINDING
-            | wgpu::TextureUsages::COPY_SRC,
+            | wgpu::TextureUsages::COPY_SRC
+            | wgpu::TextureUsages::COPY_DST,
         view_formats: &[],
     })
 }
@@ -233,8 +288,8 @@ impl EpipolarShafts {
         ]
     }
 
-    /// Layout of `epipolar_tree`: 0 frame, 1 shadow map, 2 previous level, 3 this
-    /// level (r32float), 4 the level uniform.
+    /// Layout of `epipolar_tree`: 0 frame, 1 shadow map, 2 the tree (read), 3 the level
+    /// written (rgba32float), 4 the level uniform.
     pub fn tree_entries() -> Vec<wgpu::BindGroupLayoutEntry> {
         vec![
             uniform_entry(0, C),
@@ -246,7 +301,7 @@ impl EpipolarShafts {
     }
 
     /// Layout of `epipolar_march` (`steps`: `@EPIPOLAR_BRUTE_FORCE`): 0 frame, 1
-    /// medium, 2 coordinates, 3 sources, 4 tree 0 (the shadow map), 5 tree 1 (absent),
+    /// medium, 2 coordinates, 3 sources, 4 the tree (the shadow map),
     /// 6 shaft terms (r32float).
     pub fn march_entries(steps: bool) -> Vec<wgpu::BindGroupLayoutEntry> {
         let mut entries = vec![
@@ -255,12 +310,12 @@ impl EpipolarShafts {
             unfilterable(2),
             uint_texture_entry(3),
         ];
-        if steps {
-            entries.push(shadow_entry(4));
+        entries.push(if steps {
+            shadow_entry(4)
         } else {
-            entries.extend([unfilterable(4), unfilterable(5)]);
-        }
-        entries.push(storage_entry(6, D2, TERM_FORMAT));
+            unfilterable(4)
+        });
+        entries.push(storage_entry(5, D2, TERM_FORMAT));
         entries
     }
 
@@ -334,14 +389,18 @@ impl EpipolarShafts {
         let textures = Textures {
             coords: storage_texture(device, "volfog epipolar coordinates", epi, COORD_FORMAT),
             sources: storage_texture(device, "volfog epipolar sources", epi, SOURCE_FORMAT),
-            tree: [0, 1].map(|i| {
-                storage_texture(
-                    device,
-                    &format!("volfog epipolar tree {i}"),
-                    (2 * s.shadow_size, 2 * s.slices),
-                    TREE_FORMAT,
-                )
-            }),
+            tree: storage_texture(
+                device,
+                "volfog epipolar tree",
+                (s.shadow_size, s.slices),
+                TREE_FORMAT,
+            ),
+            scratch: storage_texture(
+                device,
+                "volfog epipolar tree scratch",
+                (s.shadow_size / 4, s.slices),
+                TREE_FORMAT,
+            ),
             marched: storage_texture(device, "volfog epipolar marched", epi, TERM_FORMAT),
             interpolated: storage_texture(device, "volfog epipolar interpolated", epi, TERM_FORMAT),
             low: (s.downscale > 1).then(|| {
@@ -472,7 +531,7 @@ impl EpipolarShafts {
                 TimestampPairs::new(
                     device,
                     "volfog epipolar timestamps",
-                    TIMED_PASSES.len() as u32,
+                    EpipolarPass::ALL.len() as u32,
                 )
             });
         Ok(Self {
@@ -550,7 +609,7 @@ impl EpipolarShafts {
             view(&t.interpolated),
             view(&t.shafts),
         );
-        let tree = [view(&t.tree[0]), view(&t.tree[1])];
+        let (tree, scratch) = (view(&t.tree), view(&t.scratch));
         use wgpu::BindingResource as R;
         let frame = self.frame.as_entire_binding();
         let medium = self.medium.as_entire_binding();
@@ -558,8 +617,13 @@ impl EpipolarShafts {
         let top = s.shadow_size.trailing_zeros();
         let tree_groups = (0..=top)
             .map(|l| {
-                // Level l is written to texture l % 2 from the other one.
-                let dst = (l % 2) as usize;
+                // Level 0 is written into the tree; level l > 0 is read from the tree
+                // into the scratch texture, then copied into the tree.
+                let (src, dst) = if l == 0 {
+                    (&scratch, &tree)
+                } else {
+                    (&tree, &scratch)
+                };
                 bind_group(
                     device,
                     "epipolar_tree",
@@ -567,8 +631,8 @@ impl EpipolarShafts {
                     &[
                         (0, frame.clone()),
                         (1, R::TextureView(&shadow_view)),
-                        (2, R::TextureView(&tree[1 - dst])),
-                        (3, R::TextureView(&tree[dst])),
+                        (2, R::TextureView(src)),
+                        (3, R::TextureView(dst)),
                         (
                             4,
                             R::Buffer(wgpu::BufferBinding {
@@ -614,9 +678,8 @@ impl EpipolarShafts {
                     (1, medium.clone()),
                     (2, R::TextureView(&coords)),
                     (3, R::TextureView(&sources)),
-                    (4, R::TextureView(&tree[0])),
-                    (5, R::TextureView(&tree[1])),
-                    (6, R::TextureView(&marched)),
+                    (4, R::TextureView(&tree)),
+                    (5, R::TextureView(&marched)),
                 ],
             ),
             steps: bind_group(
@@ -629,7 +692,7 @@ impl EpipolarShafts {
                     (2, R::TextureView(&coords)),
                     (3, R::TextureView(&sources)),
                     (4, R::TextureView(&shadow_view)),
-                    (6, R::TextureView(&marched)),
+                    (5, R::TextureView(&marched)),
                 ],
             ),
             interpolate: bind_group(
@@ -760,12 +823,34 @@ impl EpipolarShafts {
         Ok(())
     }
 
-    /// Records the passes that fill the shaft texture ([`EpipolarShafts::shaft_view`]),
-    /// each timed when the device has `TIMESTAMP_QUERY`.
+    /// Records the passes of `mode` that fill the shaft texture
+    /// ([`EpipolarShafts::shaft_view`]), each timed when the device has
+    /// `TIMESTAMP_QUERY` ([`EpipolarShafts::read_timings`]).
     pub fn encode(
         &self,
         encoder: &mut wgpu::CommandEncoder,
         mode: EpipolarMode,
+    ) -> Result<(), EpipolarError> {
+        for pass in EpipolarPass::of(mode, self.sampling.downscale) {
+            let writes = self.timestamps.as_ref().map(|t| t.compute(pass as u32));
+            self.encode_pass(encoder, pass, mode, writes)?;
+        }
+        encoder.copy_buffer_to_buffer(&self.counters, 0, &self.counters_readback, 0, 16);
+        if let Some(t) = &self.timestamps {
+            t.resolve(encoder);
+        }
+        Ok(())
+    }
+
+    /// Records one pass of `mode` in its own compute pass with the caller's timestamp
+    /// writes (for timing passes one by one; [`EpipolarPass::of`] lists them in order).
+    /// The first pass of a mode zeroes the correction counters.
+    pub fn encode_pass(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        pass: EpipolarPass,
+        mode: EpipolarMode,
+        timestamp_writes: Option<wgpu::ComputePassTimestampWrites<'_>>,
     ) -> Result<(), EpipolarError> {
         let g = self
             .groups
@@ -776,81 +861,100 @@ impl EpipolarShafts {
         }
         let s = &self.sampling;
         let p = &self.pipelines;
-        encoder.clear_buffer(&self.counters, 0, None);
-        let pass = |encoder: &mut wgpu::CommandEncoder,
-                    index: usize,
-                    run: &mut dyn FnMut(&mut wgpu::ComputePass<'_>)| {
-            let mut cp = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                label: Some(TIMED_PASSES[index]),
-                timestamp_writes: self.timestamps.as_ref().map(|t| t.compute(index as u32)),
-            });
-            run(&mut cp);
-        };
-        let (w, h) = (s.width.div_ceil(8), s.height.div_ceil(8));
-        if mode == EpipolarMode::Reference {
-            pass(encoder, 7, &mut |cp| {
-                cp.set_pipeline(&p.reference.1);
-                cp.set_bind_group(0, &g.reference, &[]);
-                cp.dispatch_workgroups(w, h, 1);
-            });
+        if matches!(pass, EpipolarPass::Coords | EpipolarPass::Reference) {
+            encoder.clear_buffer(&self.counters, 0, None);
+        }
+        if pass == EpipolarPass::Tree {
+            self.encode_tree(encoder, timestamp_writes);
             return Ok(());
         }
+        let mut cp = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some(pass.name()),
+            timestamp_writes,
+        });
+        let (w, h) = (s.width.div_ceil(8), s.height.div_ceil(8));
         let per_sample = (s.samples.div_ceil(64), s.slices);
-        pass(encoder, 0, &mut |cp| {
-            cp.set_pipeline(&p.coords.1);
-            cp.set_bind_group(0, &g.coords, &[]);
-            cp.dispatch_workgroups(per_sample.0, per_sample.1, 1);
-        });
-        pass(encoder, 1, &mut |cp| {
-            cp.set_pipeline(&p.refine.1);
-            cp.set_bind_group(0, &g.refine, &[]);
-            cp.dispatch_workgroups(s.samples / 128, s.slices, 1);
-        });
-        if mode == EpipolarMode::Tree {
-            pass(encoder, 2, &mut |cp| {
-                cp.set_pipeline(&p.tree.1);
-                cp.set_bind_group(0, &g.tree[0], &[]);
-                cp.dispatch_workgroups(s.shadow_size.div_ceil(64), s.slices, 1);
-                cp.set_pipeline(&p.tree.2);
-                for (l, group) in g.tree.iter().enumerate().skip(1) {
-                    cp.set_bind_group(0, group, &[]);
-                    cp.dispatch_workgroups((s.shadow_size >> l).div_ceil(64), s.slices, 1);
-                }
-            });
-        }
-        pass(encoder, 3, &mut |cp| {
-            if mode == EpipolarMode::Tree {
-                cp.set_pipeline(&p.march.1);
-                cp.set_bind_group(0, &g.march, &[]);
-            } else {
-                cp.set_pipeline(&p.steps.1);
-                cp.set_bind_group(0, &g.steps, &[]);
+        let mut run =
+            |pipeline: &wgpu::ComputePipeline, group: &wgpu::BindGroup, (x, y): (u32, u32)| {
+                cp.set_pipeline(pipeline);
+                cp.set_bind_group(0, group, &[]);
+                cp.dispatch_workgroups(x, y, 1);
+            };
+        match pass {
+            EpipolarPass::Coords => run(&p.coords.1, &g.coords, per_sample),
+            EpipolarPass::Refine => run(&p.refine.1, &g.refine, (s.samples / 128, s.slices)),
+            EpipolarPass::Tree => {}
+            EpipolarPass::March if mode == EpipolarMode::Steps => {
+                run(&p.steps.1, &g.steps, per_sample)
             }
-            cp.dispatch_workgroups(per_sample.0, per_sample.1, 1);
-        });
-        pass(encoder, 4, &mut |cp| {
-            cp.set_pipeline(&p.interpolate.1);
-            cp.set_bind_group(0, &g.interpolate, &[]);
-            cp.dispatch_workgroups(per_sample.0, per_sample.1, 1);
-        });
-        let (lw, lh) = s.resolved_size();
-        pass(encoder, 5, &mut |cp| {
-            cp.set_pipeline(&p.resolve.1);
-            cp.set_bind_group(0, &g.resolve, &[]);
-            cp.dispatch_workgroups(lw.div_ceil(8), lh.div_ceil(8), 1);
-        });
-        if let Some(upscale) = &g.upscale {
-            pass(encoder, 6, &mut |cp| {
-                cp.set_pipeline(&p.upscale.1);
-                cp.set_bind_group(0, upscale, &[]);
-                cp.dispatch_workgroups(w, h, 1);
-            });
-        }
-        encoder.copy_buffer_to_buffer(&self.counters, 0, &self.counters_readback, 0, 16);
-        if let Some(t) = &self.timestamps {
-            t.resolve(encoder);
+            EpipolarPass::March => run(&p.march.1, &g.march, per_sample),
+            EpipolarPass::Interpolate => run(&p.interpolate.1, &g.interpolate, per_sample),
+            EpipolarPass::Resolve => {
+                let (lw, lh) = s.resolved_size();
+                run(&p.resolve.1, &g.resolve, (lw.div_ceil(8), lh.div_ceil(8)));
+            }
+            EpipolarPass::Upscale => {
+                if let Some(upscale) = &g.upscale {
+                    run(&p.upscale.1, upscale, (w, h));
+                }
+            }
+            EpipolarPass::Reference => run(&p.reference.1, &g.reference, (w, h)),
         }
         Ok(())
+    }
+
+    /// The tree build: level 0 into the tree texture, then each level into the scratch
+    /// texture and copied into the tree; the timestamps bracket all of it.
+    fn encode_tree(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        timestamp_writes: Option<wgpu::ComputePassTimestampWrites<'_>>,
+    ) {
+        let (Some(g), s, p) = (self.groups.as_ref(), &self.sampling, &self.pipelines) else {
+            return;
+        };
+        let top = s.shadow_size.trailing_zeros() as usize;
+        for (l, group) in g.tree.iter().enumerate() {
+            let writes = timestamp_writes
+                .as_ref()
+                .filter(|_| l == 0 || l == top)
+                .map(|w| wgpu::ComputePassTimestampWrites {
+                    query_set: w.query_set,
+                    beginning_of_pass_write_index: w
+                        .beginning_of_pass_write_index
+                        .filter(|_| l == 0),
+                    end_of_pass_write_index: w.end_of_pass_write_index.filter(|_| l == top),
+                });
+            let mut cp = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: Some("epipolar_tree"),
+                timestamp_writes: writes,
+            });
+            // Each thread writes one texel (two nodes).
+            let texels = (s.shadow_size >> l).max(2) / 2;
+            cp.set_pipeline(if l == 0 { &p.tree.1 } else { &p.tree.2 });
+            cp.set_bind_group(0, group, &[]);
+            cp.dispatch_workgroups(texels.div_ceil(64), s.slices, 1);
+            drop(cp);
+            if l > 0 {
+                let offset = (2 * s.shadow_size - ((2 * s.shadow_size) >> l)) / 2;
+                encoder.copy_texture_to_texture(
+                    self.textures.scratch.as_image_copy(),
+                    wgpu::TexelCopyTextureInfo {
+                        origin: wgpu::Origin3d {
+                            x: offset,
+                            y: 0,
+                            z: 0,
+                        },
+                        ..self.textures.tree.as_image_copy()
+                    },
+                    wgpu::Extent3d {
+                        width: texels,
+                        height: s.slices,
+                        depth_or_array_layers: 1,
+                    },
+                );
+            }
+        }
     }
 
     /// The shaft texture ([`SHAFT_FORMAT`], `width` x `height`): r the lit fraction F.
@@ -886,8 +990,8 @@ impl EpipolarShafts {
         let textures = [
             &t.coords,
             &t.sources,
-            &t.tree[0],
-            &t.tree[1],
+            &t.tree,
+            &t.scratch,
             &t.marched,
             &t.interpolated,
             &t.shafts,
@@ -930,17 +1034,24 @@ impl EpipolarShafts {
         Ok((counts[0], counts[1]))
     }
 
-    /// Milliseconds of each pass of [`TIMED_PASSES`] in the last submitted `encode`
-    /// (0 for passes that did not run); `None` without `TIMESTAMP_QUERY`.
+    /// Milliseconds of each pass the last submitted `encode` of `mode` ran, in order;
+    /// `None` without `TIMESTAMP_QUERY`. Blocks until the GPU is done.
     pub fn read_timings(
         &self,
         device: &wgpu::Device,
         queue: &wgpu::Queue,
-    ) -> Result<Option<Vec<f64>>, EpipolarError> {
-        match &self.timestamps {
-            Some(t) => Ok(Some(t.read_ms(device, queue)?)),
-            None => Ok(None),
-        }
+        mode: EpipolarMode,
+    ) -> Result<Option<Vec<(EpipolarPass, f64)>>, EpipolarError> {
+        let Some(t) = &self.timestamps else {
+            return Ok(None);
+        };
+        let ms = t.read_ms(device, queue)?;
+        Ok(Some(
+            EpipolarPass::of(mode, self.sampling.downscale)
+                .into_iter()
+                .map(|p| (p, ms[p as usize]))
+                .collect(),
+        ))
     }
 
     /// The fullscreen composite of the shafts alone for colour targets of `format`

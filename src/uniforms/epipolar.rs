@@ -166,6 +166,10 @@ pub struct EpipolarView {
     pub start_depth: f32,
     /// Longest view depth (m) marched (sky pixels stop here), > start_depth, <= 1e7.
     pub max_depth: f32,
+    /// Added to the shadow depths before the lit test, in light depth units, [0, 1]:
+    /// the usual bias against shadow acne where rays end on a receiver (about the depth
+    /// change of a receiver across one or two shadow texels).
+    pub depth_bias: f32,
 }
 
 /// One frame of epipolar sun shafts (WGSL `volfog::types::EpipolarFrame`, used by
@@ -208,8 +212,8 @@ pub struct EpipolarFrame {
     pub max_depth: f32,
     /// Steps of the reference march.
     pub reference_steps: u32,
-    /// Padding.
-    pub pad: u32,
+    /// Shadow depth bias (light depth units).
+    pub depth_bias: f32,
 }
 
 /// Largest |coordinate| of the epipole kept (a sun at 90 degrees from the view axis
@@ -278,6 +282,12 @@ impl EpipolarFrame {
             view.max_depth,
             "(start_depth, 1e7] m",
         )?;
+        check(
+            (0.0..=1.0).contains(&view.depth_bias),
+            "EpipolarView.depth_bias",
+            view.depth_bias,
+            "[0, 1] (light depth units)",
+        )?;
         super::check_unit("HeightFog.sun_direction", sun_direction)?;
         let sun = view.view_from_world.transform_vector3(sun_direction);
         let clip = view.clip_from_view * sun.extend(0.0);
@@ -309,7 +319,7 @@ impl EpipolarFrame {
             depth_threshold: sampling.depth_threshold,
             max_depth: view.max_depth,
             reference_steps: sampling.reference_steps,
-            pad: 0,
+            depth_bias: view.depth_bias,
         })
     }
 

@@ -149,6 +149,7 @@ impl Scene {
             phase: EpipolarPhase::HenyeyGreenstein,
             start_depth,
             max_depth: MAX_DEPTH,
+            depth_bias: 0.001,
         }
     }
 
@@ -675,6 +676,7 @@ fn far_field_continues_the_tail_and_shadows_it() {
         phase: EpipolarPhase::HenyeyGreenstein,
         start_depth: far,
         max_depth: 500.0,
+        depth_bias: 0.0,
     };
     let sampling = EpipolarSampling {
         slices: 128,

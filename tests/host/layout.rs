@@ -178,7 +178,7 @@ fn rust_layouts() -> BTreeMap<&'static str, Measured> {
             depth_threshold: f32,
             max_depth: f32,
             reference_steps: u32,
-            pad: u32,
+            depth_bias: f32,
         }),
         measure!(FrustumRays {
             corners: [Vec4; 4],

@@ -11,7 +11,11 @@
 //! 5. the cheap path at 1080p: depth culling by the scene's depth buffer, checkerboard
 //!    amortisation and the noise texture, each alone and all three, per pass, with the
 //!    inject against a plain write of the volume (its floor) and the whole pipeline
-//!    against the raymarch; and the share of froxels culling keeps.
+//!    against the raymarch; and the share of froxels culling keeps;
+//! 6. epipolar sun shafts at 1080p: the min/max tree march against the march of the
+//!    same samples over every section of the shadow map, and the whole epipolar path
+//!    (tree build included) against the per-pixel brute-force march, with the error of
+//!    its image against that reference.
 //!
 //! Every pass is submitted alone and waited for, and timed by GPU timestamp queries
 //! (`wgpu::Features::TIMESTAMP_QUERY`, required) and by the wall time from submission
@@ -82,6 +86,10 @@ const TARGET_INJECT: f64 = 5.0;
 const TARGET_FAST_SPEEDUP: f64 = 50.0;
 /// Target: froxel cost at 4K / 720p.
 const TARGET_SCREEN: f64 = 1.05;
+/// Target: march of the ray-marching samples over every section / min/max tree march.
+const TARGET_TREE_MARCH: f64 = 5.0;
+/// Target: per-pixel brute force / the whole epipolar path at 1080p.
+const TARGET_EPIPOLAR: f64 = 4.0;
 /// Target: GPU memory of `VolumetricFog` at the default configuration (MiB).
 const TARGET_MEMORY_MIB: f64 = 48.0;
 
@@ -194,6 +202,9 @@ pub enum BenchError {
     /// A volfog pass failed to compose.
     #[error(transparent)]
     Codegen(#[from] volfog::shaders::CodegenError),
+    /// The epipolar shafts refused their inputs.
+    #[error(transparent)]
+    Epipolar(#[from] volfog::pipeline::epipolar::EpipolarError),
     /// The adapter cannot time passes.
     #[error(
         "the adapter {adapter} does not support timestamp queries \
@@ -299,6 +310,7 @@ fn run(args: &BenchArgs) -> Result<(), BenchError> {
     }
     let live = volfog_testkit::scene::live_fraction(&gpu, &work.variants[3].fog)?
         .ok_or_else(|| BenchError::Readback("the live slices of a culling fog".to_string()))?;
+    let shaft_image = work.shafts.image_error(&gpu)?;
     let report = summarize(
         &gpu,
         clock,
@@ -306,6 +318,7 @@ fn run(args: &BenchArgs) -> Result<(), BenchError> {
         &work.config,
         &samples,
         (memory_bytes, live),
+        shaft_image,
         start,
     );
     print!("{}", table(&report));

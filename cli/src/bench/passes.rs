@@ -442,3 +442,135 @@ impl Atmosphere {
         Ok([sky_t, shadow_t, clouds_t])
     }
 }
+
+/// Epipolar sun shafts over the main screen (`EpipolarShafts`, default sampling: 512
+/// slices of 256 samples, initial step 16, downscale 2) in the scene's height fog,
+/// marched in its outermost cascade: every pass of the tree path, the march of the
+/// same samples without the tree, and the per-pixel brute-force reference.
+pub(super) struct Shafts {
+    shafts: volfog::pipeline::epipolar::EpipolarShafts,
+}
+
+/// Samples of one frame of [`Shafts`].
+pub(super) struct ShaftSamples {
+    /// Every pass of the tree path.
+    pub(super) total: Sample,
+    /// The tree build.
+    pub(super) tree: Sample,
+    /// The tree march.
+    pub(super) march_tree: Sample,
+    /// The march of the same samples over every section.
+    pub(super) march_steps: Sample,
+    /// The per-pixel reference, when run.
+    pub(super) reference: Option<Sample>,
+}
+
+impl Shafts {
+    pub(super) fn new(
+        gpu: &Gpu,
+        scene: &Scene,
+        cascades: &volfog::uniforms::ShadowCascades,
+        depth: &wgpu::Texture,
+        shadow_map: &wgpu::Texture,
+    ) -> Result<Self, BenchError> {
+        use volfog::pipeline::epipolar::EpipolarShafts;
+        use volfog::uniforms::{EpipolarPhase, EpipolarSampling, EpipolarView, HeightFog};
+        let shadow_size = shadow_map.size().width;
+        let mut shafts = EpipolarShafts::new(
+            &gpu.device,
+            EpipolarSampling::new(SCREEN.0, SCREEN.1, shadow_size),
+        )?;
+        shafts.set_inputs(&gpu.device, depth, shadow_map)?;
+        let last = cascades.count.max(1) - 1;
+        let medium = HeightFog::from_medium(&scene.medium, glam::Vec3::splat(0.05)).with_sun(
+            scene.sun.direction,
+            scene.sun.color * scene.medium.albedo,
+            scene.medium.phase_g,
+        )?;
+        let view = EpipolarView {
+            view_from_world: scene.view,
+            clip_from_view: scene.projection,
+            light_from_world: cascades.light_from_world[last as usize],
+            cascade: last,
+            rayleigh: glam::Vec3::ZERO,
+            phase: EpipolarPhase::HenyeyGreenstein,
+            start_depth: 0.0,
+            max_depth: 500.0,
+            depth_bias: 0.002,
+        };
+        shafts.prepare(&gpu.queue, &view, &medium)?;
+        Ok(Self { shafts })
+    }
+
+    /// Every pass of the tree path, the steps march and (with `reference`) the
+    /// reference, each submitted alone (timer slot 7).
+    pub(super) fn frame(
+        &self,
+        gpu: &Gpu,
+        timer: &Timer,
+        reference: bool,
+    ) -> Result<ShaftSamples, BenchError> {
+        use volfog::pipeline::epipolar::{EpipolarMode, EpipolarPass};
+        let run = |pass: EpipolarPass, mode: EpipolarMode| -> Result<Sample, BenchError> {
+            let mut result = Ok(());
+            let sample = timer.run(gpu, 7, |e| {
+                result = self.shafts.encode_pass(e, pass, mode, timer.compute(7));
+            })?;
+            result?;
+            Ok(sample)
+        };
+        let mut total = Sample::default();
+        let (mut tree, mut march_tree) = (Sample::default(), Sample::default());
+        for pass in EpipolarPass::of(EpipolarMode::Tree, self.shafts.sampling().downscale) {
+            let t = run(pass, EpipolarMode::Tree)?;
+            total = total + t;
+            match pass {
+                EpipolarPass::Tree => tree = t,
+                EpipolarPass::March => march_tree = t,
+                _ => {}
+            }
+        }
+        let march_steps = run(EpipolarPass::March, EpipolarMode::Steps)?;
+        let reference = if reference {
+            Some(run(EpipolarPass::Reference, EpipolarMode::Reference)?)
+        } else {
+            None
+        };
+        Ok(ShaftSamples {
+            total,
+            tree,
+            march_tree,
+            march_steps,
+            reference,
+        })
+    }
+
+    /// The lit fraction of the tree path against the per-pixel reference at 1080p:
+    /// (mean absolute error, 99th percentile, pixels the resolve and upscale corrected).
+    pub(super) fn image_error(&self, gpu: &Gpu) -> Result<ShaftImage, BenchError> {
+        use volfog::pipeline::epipolar::EpipolarMode;
+        let read = |mode| -> Result<Vec<glam::Vec4>, BenchError> {
+            let mut encoder = gpu.device.create_command_encoder(&Default::default());
+            self.shafts.encode(&mut encoder, mode)?;
+            submit_and_wait(gpu, encoder.finish())?;
+            Ok(gpu.read_texture_rgba16f(self.shafts.shaft_texture())?)
+        };
+        let reference = read(EpipolarMode::Reference)?;
+        let image = read(EpipolarMode::Tree)?;
+        let corrected = self.shafts.read_corrected(&gpu.device)?;
+        let mut errors: Vec<f32> = image
+            .iter()
+            .zip(&reference)
+            .map(|(a, b)| (a.x - b.x).abs())
+            .collect();
+        let nan = image.iter().filter(|p| !p.is_finite()).count();
+        let mean = errors.iter().map(|&e| f64::from(e)).sum::<f64>() / errors.len() as f64;
+        errors.sort_by(f32::total_cmp);
+        Ok(ShaftImage {
+            lit_fraction_mean_abs_error: mean,
+            lit_fraction_p99_abs_error: f64::from(errors[errors.len() * 99 / 100]),
+            corrected_pixels: corrected.0 + corrected.1,
+            nan_pixels: nan,
+        })
+    }
+}

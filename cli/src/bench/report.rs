@@ -114,6 +114,32 @@ pub struct AtmosphereCost {
     pub distance_clouds_vs_blit: f64,
 }
 
+/// Epipolar sun shafts at 1080p: the two ratios of the issue and the image error.
+#[derive(Debug, Clone, Serialize)]
+pub struct ShaftCost {
+    /// Median march of the same samples over every section / median tree march.
+    pub march_steps_vs_tree: Ratio,
+    /// Median per-pixel brute force / median whole epipolar path (tree build included).
+    pub reference_vs_epipolar: Ratio,
+    /// The tree path's image against the reference.
+    pub image: ShaftImage,
+    /// Steps of the per-pixel reference march.
+    pub reference_steps: u32,
+}
+
+/// The lit fraction of the epipolar image against the per-pixel reference.
+#[derive(Debug, Clone, Serialize)]
+pub struct ShaftImage {
+    /// Mean absolute error of the lit fraction F (in [0, 1]) over every pixel.
+    pub lit_fraction_mean_abs_error: f64,
+    /// Its 99th percentile.
+    pub lit_fraction_p99_abs_error: f64,
+    /// Pixels the resolve and the upscale corrected with a march.
+    pub corrected_pixels: u32,
+    /// Pixels that are not finite (NaN or Inf).
+    pub nan_pixels: usize,
+}
+
 /// Depth culling in the bench scene.
 #[derive(Debug, Clone, Serialize)]
 pub struct Culling {
@@ -178,6 +204,8 @@ pub struct Report {
     pub culling: Culling,
     /// The sky and the clouds against a blit.
     pub atmosphere: AtmosphereCost,
+    /// Epipolar sun shafts.
+    pub shafts: ShaftCost,
     /// Wall-clock time of the whole run, seconds.
     pub wall_seconds: f64,
 }
@@ -190,6 +218,7 @@ pub(super) fn summarize(
     config: &FogConfig,
     samples: &std::collections::BTreeMap<&str, Vec<Sample>>,
     (memory_bytes, live_fraction): (u64, f64),
+    shaft_image: ShaftImage,
     start: Instant,
 ) -> Report {
     let series = |k: &str, c: Clock| -> Vec<f64> {
@@ -260,6 +289,20 @@ pub(super) fn summarize(
         cloud_shadow_vs_blit: median("cloud_shadow_1080p") / median("blit_1080p"),
         distance_clouds_vs_blit: median("distance_clouds_1080p") / median("blit_1080p"),
     };
+    let shafts = ShaftCost {
+        march_steps_vs_tree: Ratio::at_least(
+            "median march over every section / median min/max tree march (same samples)",
+            median("epipolar_march_steps") / median("epipolar_march_tree"),
+            TARGET_TREE_MARCH,
+        ),
+        reference_vs_epipolar: Ratio::at_least(
+            "median per-pixel brute force / median epipolar path (trees included), 1080p",
+            median("epipolar_reference_1080p") / median("epipolar_1080p"),
+            TARGET_EPIPOLAR,
+        ),
+        image: shaft_image,
+        reference_steps: volfog::uniforms::EpipolarSampling::new(1, 1, 64).reference_steps,
+    };
     let mib = memory_bytes as f64 / (1024.0 * 1024.0);
     Report {
         adapter: gpu.info.name.clone(),
@@ -282,6 +325,7 @@ pub(super) fn summarize(
         ratios,
         culling,
         atmosphere,
+        shafts,
         memory: Memory {
             bytes: memory_bytes,
             mib,
@@ -322,6 +366,10 @@ pub fn table(report: &Report) -> String {
     let _ = writeln!(out, "  ** inject + temporal + scan, apply excluded");
     let _ = writeln!(
         out,
+        "  *** coords + refine + trees + march + interpolate + resolve + upscale, 512 slices x 256 samples, downscale 2"
+    );
+    let _ = writeln!(
+        out,
         "  + 1080p with the scene depth: culling, checkerboard amortisation, noise texture \
          (the rows without + are the baseline: none of them)"
     );
@@ -344,6 +392,14 @@ pub fn table(report: &Report) -> String {
         (
             "raymarch / froxel fast (speed-up)",
             &r.raymarch_vs_froxel_fast,
+        ),
+        (
+            "epipolar march: every section / tree",
+            &report.shafts.march_steps_vs_tree,
+        ),
+        (
+            "epipolar: per-pixel / epipolar path",
+            &report.shafts.reference_vs_epipolar,
         ),
     ] {
         let _ = writeln!(
@@ -370,6 +426,17 @@ pub fn table(report: &Report) -> String {
         a.sky_solve_vs_blit,
         a.cloud_shadow_vs_blit,
         a.distance_clouds_vs_blit
+    );
+    let i = &report.shafts.image;
+    let _ = writeln!(
+        out,
+        "{:<36} {:>10.2e}  (p99 {:.3}; {} pixels corrected by a march, {} not finite; reference {} steps/pixel)",
+        "epipolar image: lit fraction error",
+        i.lit_fraction_mean_abs_error,
+        i.lit_fraction_p99_abs_error,
+        i.corrected_pixels,
+        i.nan_pixels,
+        report.shafts.reference_steps
     );
     let m = &report.memory;
     let _ = writeln!(

@@ -32,6 +32,11 @@ pub(super) const SERIES: &[(&str, &str)] = &[
     ("sky_solve", "sky solve 128x64 texels"),
     ("cloud_shadow_1080p", "cloud shadow 1920x1080"),
     ("distance_clouds_1080p", "distance clouds 1920x1080"),
+    ("epipolar_tree", "epipolar min/max trees"),
+    ("epipolar_march_tree", "epipolar march, tree"),
+    ("epipolar_march_steps", "epipolar march, every section"),
+    ("epipolar_1080p", "epipolar shafts 1080p ***"),
+    ("epipolar_reference_1080p", "per-pixel shafts 1080p"),
 ];
 
 pub(super) fn froxel_cost(t: &PassTimings) -> f64 {
@@ -117,6 +122,8 @@ pub(super) struct Workloads {
     pub(super) timer: Timer,
     /// The sky light and the cloud passes over the main screen's depth.
     pub(super) atmosphere: Atmosphere,
+    /// Epipolar sun shafts over the main screen's depth.
+    pub(super) shafts: Shafts,
 }
 
 impl Workloads {
@@ -180,6 +187,7 @@ impl Workloads {
                 dimension: Some(wgpu::TextureViewDimension::D2Array),
                 ..Default::default()
             });
+        let shafts = Shafts::new(gpu, &scene, &cascades, &depth, &shadow_map)?;
         let reference_group = reference.bind_group(&gpu.device, &esm_view, &main.depth);
         Ok(Self {
             config,
@@ -195,8 +203,9 @@ impl Workloads {
             reference,
             reference_group,
             reference_target,
-            timer: Timer::new(gpu, 7),
+            timer: Timer::new(gpu, 8),
             atmosphere: Atmosphere::new(gpu, &depth)?,
+            shafts,
         })
     }
 
@@ -230,6 +239,7 @@ impl Workloads {
         let write_t = timer.run(gpu, 3, |e| self.write.encode(e, timer, 3))?;
         let blit_t = timer.run(gpu, 1, |e| self.blit.encode(e, timer, 1))?;
         let [sky_t, shadow_t, clouds_t] = self.atmosphere.frame(gpu, timer, f)?;
+        let shafts = self.shafts.frame(gpu, timer, with_raymarch)?;
         let index = self.main.fog.frame_index().expect("prepared above");
         let uniforms = inputs.uniforms(&self.config, index)?;
         self.reference.upload(
@@ -296,7 +306,14 @@ impl Workloads {
             ("cloud_shadow_1080p", shadow_t),
             ("distance_clouds_1080p", clouds_t),
         ];
+        samples.extend([
+            ("epipolar_tree", shafts.tree),
+            ("epipolar_march_tree", shafts.march_tree),
+            ("epipolar_march_steps", shafts.march_steps),
+            ("epipolar_1080p", shafts.total),
+        ]);
         samples.extend(raymarch_t.map(|r| ("raymarch_1080p", r)));
+        samples.extend(shafts.reference.map(|r| ("epipolar_reference_1080p", r)));
         Ok(samples)
     }
 }
