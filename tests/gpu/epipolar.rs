@@ -806,8 +806,14 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     let mut rng = common::Rng(11);
     let scene = Scene::new(160, 90, 256, &[], sun_direction());
     let base = EpipolarFrame::new(&scene.sampling(), &scene.view(0.0), scene.sun).unwrap();
-    let froxels = Froxels::new(scene.clip_from_view, glam::UVec3::new(32, 18, 48), 0.5, 64.0, 3.0)
-        .unwrap();
+    let froxels = Froxels::new(
+        scene.clip_from_view,
+        glam::UVec3::new(32, 18, 48),
+        0.5,
+        64.0,
+        3.0,
+    )
+    .unwrap();
     let count = 600;
     let (mut bytes, mut want) = (Vec::new(), Vec::new());
     for i in 0..count {
@@ -825,14 +831,22 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
             ..base
         };
         let fog = HeightFog::new(
-            Vec3::new(rng.range(0.0, 0.1), rng.range(0.0, 0.1), rng.range(0.0, 0.1)),
+            Vec3::new(
+                rng.range(0.0, 0.1),
+                rng.range(0.0, 0.1),
+                rng.range(0.0, 0.1),
+            ),
             rng.log(1e-4, 0.1),
             rng.unit(),
             rng.range(-0.1, 0.2),
             rng.range(-20.0, 20.0),
         )
         .unwrap()
-        .with_sun(rng.unit(), Vec3::splat(rng.range(0.0, 4.0)), rng.range(-0.9, 0.9))
+        .with_sun(
+            rng.unit(),
+            Vec3::splat(rng.range(0.0, 4.0)),
+            rng.range(-0.9, 0.9),
+        )
         .unwrap();
         let point = Vec2::new(rng.range(-0.999, 0.999), rng.range(-0.999, 0.999));
         let fraction = rng.range(0.0, 1.0);
@@ -840,8 +854,12 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
         bytes.extend(volfog::uniforms::to_uniform_bytes(&frame));
         bytes.extend(volfog::uniforms::to_uniform_bytes(&froxels));
         bytes.extend(fog.to_bytes());
-        bytes.extend_from_slice(bytemuck::cast_slice::<f32, u8>(&[point.x, point.y, fraction, 0.0]));
-        bytes.extend_from_slice(bytemuck::cast_slice::<f32, u8>(&view_pos.extend(0.0).to_array()));
+        bytes.extend_from_slice(bytemuck::cast_slice::<f32, u8>(&[
+            point.x, point.y, fraction, 0.0,
+        ]));
+        bytes.extend_from_slice(bytemuck::cast_slice::<f32, u8>(
+            &view_pos.extend(0.0).to_array(),
+        ));
         let s = cpu::pixel_slice(&frame, point);
         let slice = (s as u32).min(frame.slices - 1);
         let k = cpu::line_position(cpu::line(&frame, slice), frame.samples, point);
@@ -870,6 +888,9 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     eprintln!(
         "{count} cases: pixel slice {slice_err:.2e} slices (bound 1e-3), line position {pos_err:.2e} samples (bound 1e-2), epipolar_fog {fog_err:.2e} relative (bound 1e-4), fog_tail_shafts {tail_err:.2e} (bound 1e-4)"
     );
-    assert!(slice_err <= 1e-3 && pos_err <= 1e-2, "{slice_err} {pos_err}");
+    assert!(
+        slice_err <= 1e-3 && pos_err <= 1e-2,
+        "{slice_err} {pos_err}"
+    );
     assert!(fog_err <= 1e-4 && tail_err <= 1e-4, "{fog_err} {tail_err}");
 }

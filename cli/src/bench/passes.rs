@@ -449,7 +449,14 @@ impl Atmosphere {
 /// same samples without the tree, and the per-pixel brute-force reference.
 pub(super) struct Shafts {
     shafts: volfog::pipeline::epipolar::EpipolarShafts,
+    /// The same with a finer per-pixel reference ([`FINE_REFERENCE_STEPS`]), for the
+    /// image error only.
+    fine: volfog::pipeline::epipolar::EpipolarShafts,
 }
+
+/// Steps per pixel of the fine reference the image error is measured against (the
+/// timed reference takes the default 256, about the shadow texels a ray crosses here).
+pub(super) const FINE_REFERENCE_STEPS: u32 = 2048;
 
 /// Samples of one frame of [`Shafts`].
 pub(super) struct ShaftSamples {
@@ -476,11 +483,17 @@ impl Shafts {
         use volfog::pipeline::epipolar::EpipolarShafts;
         use volfog::uniforms::{EpipolarPhase, EpipolarSampling, EpipolarView, HeightFog};
         let shadow_size = shadow_map.size().width;
-        let mut shafts = EpipolarShafts::new(
-            &gpu.device,
-            EpipolarSampling::new(SCREEN.0, SCREEN.1, shadow_size),
-        )?;
+        let sampling = EpipolarSampling::new(SCREEN.0, SCREEN.1, shadow_size);
+        let mut shafts = EpipolarShafts::new(&gpu.device, sampling)?;
         shafts.set_inputs(&gpu.device, depth, shadow_map)?;
+        let mut fine = EpipolarShafts::new(
+            &gpu.device,
+            EpipolarSampling {
+                reference_steps: FINE_REFERENCE_STEPS,
+                ..sampling
+            },
+        )?;
+        fine.set_inputs(&gpu.device, depth, shadow_map)?;
         let last = cascades.count.max(1) - 1;
         let medium = HeightFog::from_medium(&scene.medium, glam::Vec3::splat(0.05)).with_sun(
             scene.sun.direction,
@@ -499,7 +512,8 @@ impl Shafts {
             depth_bias: 0.002,
         };
         shafts.prepare(&gpu.queue, &view, &medium)?;
-        Ok(Self { shafts })
+        fine.prepare(&gpu.queue, &view, &medium)?;
+        Ok(Self { shafts, fine })
     }
 
     /// Every pass of the tree path, the steps march and (with `reference`) the
@@ -545,32 +559,48 @@ impl Shafts {
         })
     }
 
-    /// The lit fraction of the tree path against the per-pixel reference at 1080p:
-    /// (mean absolute error, 99th percentile, pixels the resolve and upscale corrected).
+    /// The lit fraction of the tree path against the per-pixel references at 1080p
+    /// (the timed one and the fine one), and the pixels the path corrected.
     pub(super) fn image_error(&self, gpu: &Gpu) -> Result<ShaftImage, BenchError> {
-        use volfog::pipeline::epipolar::EpipolarMode;
-        let read = |mode| -> Result<Vec<glam::Vec4>, BenchError> {
+        use volfog::pipeline::epipolar::{EpipolarMode, EpipolarShafts};
+        let read = |shafts: &EpipolarShafts, mode| -> Result<Vec<glam::Vec4>, BenchError> {
             let mut encoder = gpu.device.create_command_encoder(&Default::default());
-            self.shafts.encode(&mut encoder, mode)?;
+            shafts.encode(&mut encoder, mode)?;
             submit_and_wait(gpu, encoder.finish())?;
-            Ok(gpu.read_texture_rgba16f(self.shafts.shaft_texture())?)
+            Ok(gpu.read_texture_rgba16f(shafts.shaft_texture())?)
         };
-        let reference = read(EpipolarMode::Reference)?;
-        let image = read(EpipolarMode::Tree)?;
+        let reference = read(&self.shafts, EpipolarMode::Reference)?;
+        let fine = read(&self.fine, EpipolarMode::Reference)?;
+        let image = read(&self.shafts, EpipolarMode::Tree)?;
         let corrected = self.shafts.read_corrected(&gpu.device)?;
-        let mut errors: Vec<f32> = image
+        let errors = |against: &[glam::Vec4]| -> (f64, f64) {
+            let mut e: Vec<f32> = image
+                .iter()
+                .zip(against)
+                .map(|(a, b)| (a.x - b.x).abs())
+                .collect();
+            let mean = e.iter().map(|&v| f64::from(v)).sum::<f64>() / e.len() as f64;
+            e.sort_by(f32::total_cmp);
+            (mean, f64::from(e[e.len() * 99 / 100]))
+        };
+        let (mean, p99) = errors(&reference);
+        let (fine_mean, fine_p99) = errors(&fine);
+        let reference_vs_fine = reference
             .iter()
-            .zip(&reference)
-            .map(|(a, b)| (a.x - b.x).abs())
-            .collect();
-        let nan = image.iter().filter(|p| !p.is_finite()).count();
-        let mean = errors.iter().map(|&e| f64::from(e)).sum::<f64>() / errors.len() as f64;
-        errors.sort_by(f32::total_cmp);
+            .zip(&fine)
+            .map(|(a, b)| f64::from((a.x - b.x).abs()))
+            .sum::<f64>()
+            / reference.len() as f64;
         Ok(ShaftImage {
             lit_fraction_mean_abs_error: mean,
-            lit_fraction_p99_abs_error: f64::from(errors[errors.len() * 99 / 100]),
+            lit_fraction_p99_abs_error: p99,
+            fine_mean_abs_error: fine_mean,
+            fine_p99_abs_error: fine_p99,
+            reference_vs_fine_mean_abs_error: reference_vs_fine,
+            fine_reference_steps: FINE_REFERENCE_STEPS,
             corrected_pixels: corrected.0 + corrected.1,
-            nan_pixels: nan,
+            nan_pixels: image.iter().filter(|p| !p.is_finite()).count(),
+            memory_bytes: self.shafts.memory_bytes(),
         })
     }
 }

@@ -130,14 +130,25 @@ pub struct ShaftCost {
 /// The lit fraction of the epipolar image against the per-pixel reference.
 #[derive(Debug, Clone, Serialize)]
 pub struct ShaftImage {
-    /// Mean absolute error of the lit fraction F (in [0, 1]) over every pixel.
+    /// Mean absolute error of the lit fraction F (in [0, 1]) over every pixel, against
+    /// the timed reference.
     pub lit_fraction_mean_abs_error: f64,
     /// Its 99th percentile.
     pub lit_fraction_p99_abs_error: f64,
+    /// The same against the fine reference.
+    pub fine_mean_abs_error: f64,
+    /// Its 99th percentile.
+    pub fine_p99_abs_error: f64,
+    /// Mean absolute difference of the timed reference from the fine one.
+    pub reference_vs_fine_mean_abs_error: f64,
+    /// Steps per pixel of the fine reference.
+    pub fine_reference_steps: u32,
     /// Pixels the resolve and the upscale corrected with a march.
     pub corrected_pixels: u32,
     /// Pixels that are not finite (NaN or Inf).
     pub nan_pixels: usize,
+    /// `EpipolarShafts::memory_bytes()` at the bench's sampling.
+    pub memory_bytes: u64,
 }
 
 /// Depth culling in the bench scene.
@@ -430,13 +441,24 @@ pub fn table(report: &Report) -> String {
     let i = &report.shafts.image;
     let _ = writeln!(
         out,
-        "{:<36} {:>10.2e}  (p99 {:.3}; {} pixels corrected by a march, {} not finite; reference {} steps/pixel)",
+        "{:<36} {:>10.2e}  (p99 {:.3}) against {} steps/pixel, {:.2e} (p99 {:.3}) against {} ({} alone: {:.2e}); {} pixels corrected by a march, {} not finite",
         "epipolar image: lit fraction error",
         i.lit_fraction_mean_abs_error,
         i.lit_fraction_p99_abs_error,
+        report.shafts.reference_steps,
+        i.fine_mean_abs_error,
+        i.fine_p99_abs_error,
+        i.fine_reference_steps,
+        report.shafts.reference_steps,
+        i.reference_vs_fine_mean_abs_error,
         i.corrected_pixels,
-        i.nan_pixels,
-        report.shafts.reference_steps
+        i.nan_pixels
+    );
+    let _ = writeln!(
+        out,
+        "{:<36} {:>6.2} MiB",
+        "EpipolarShafts::memory_bytes",
+        i.memory_bytes as f64 / (1024.0 * 1024.0)
     );
     let m = &report.memory;
     let _ = writeln!(

@@ -43,6 +43,10 @@ fn quick_bench_writes_every_ratio_memory_and_adapter() {
         "raymarch / froxel fast",
         "froxels live after depth culling",
         "sky and clouds / blit 1080p",
+        "epipolar march: every section / tree",
+        "epipolar: per-pixel / epipolar path",
+        "epipolar image: lit fraction error",
+        "EpipolarShafts::memory_bytes",
         "VolumetricFog::memory_bytes",
     ] {
         assert!(stdout.contains(line), "the table lacks {line:?}");
@@ -76,6 +80,28 @@ fn quick_bench_writes_every_ratio_memory_and_adapter() {
         let v = report["atmosphere"][key].as_f64().unwrap_or(f64::NAN);
         assert!(v.is_finite() && v > 0.0, "atmosphere {key} = {v}");
     }
+    for ratio in ["march_steps_vs_tree", "reference_vs_epipolar"] {
+        let r = &report["shafts"][ratio];
+        let value = r["value"].as_f64().unwrap_or(f64::NAN);
+        assert!(
+            value.is_finite() && value > 0.0,
+            "shafts {ratio} = {value}: {r}"
+        );
+    }
+    let image = &report["shafts"]["image"];
+    for key in [
+        "lit_fraction_mean_abs_error",
+        "fine_mean_abs_error",
+        "reference_vs_fine_mean_abs_error",
+    ] {
+        let v = image[key].as_f64().unwrap_or(f64::NAN);
+        assert!(
+            v.is_finite() && (0.0..1.0).contains(&v),
+            "shafts image {key} = {v}"
+        );
+    }
+    assert_eq!(image["nan_pixels"], 0, "no NaN in the shafts");
+    assert!(image["memory_bytes"].as_u64().unwrap_or(0) > 0);
     let passes = report["passes"].as_object().expect("passes");
     for key in [
         "inject",
@@ -99,6 +125,11 @@ fn quick_bench_writes_every_ratio_memory_and_adapter() {
         "temporal_fast",
         "write",
         "froxel_fast_1080p",
+        "epipolar_tree",
+        "epipolar_march_tree",
+        "epipolar_march_steps",
+        "epipolar_1080p",
+        "epipolar_reference_1080p",
     ] {
         let median = passes[key]["median_ms"].as_f64().unwrap_or(f64::NAN);
         assert!(median.is_finite() && median > 0.0, "{key}: {median}");
