@@ -317,8 +317,7 @@ fn run(args: &BenchArgs) -> Result<(), BenchError> {
         &plan,
         &work.config,
         &samples,
-        (memory_bytes, live),
-        shaft_image,
+        (memory_bytes, live, shaft_image),
         start,
     );
     print!("{}", table(&report));

@@ -228,8 +228,7 @@ pub(super) fn summarize(
     plan: &Plan,
     config: &FogConfig,
     samples: &std::collections::BTreeMap<&str, Vec<Sample>>,
-    (memory_bytes, live_fraction): (u64, f64),
-    shaft_image: ShaftImage,
+    (memory_bytes, live_fraction, shaft_image): (u64, f64, ShaftImage),
     start: Instant,
 ) -> Report {
     let series = |k: &str, c: Clock| -> Vec<f64> {
