@@ -894,3 +894,13 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     );
     assert!(fog_err <= 1e-4 && tail_err <= 1e-4, "{fog_err} {tail_err}");
 }
+
+/// The main job's self-check of the shafts holds its bounds.
+#[test]
+fn self_check_of_the_shafts_holds() {
+    let check = volfog_testkit::selfcheck::epipolar_check(gpu()).unwrap();
+    eprintln!("{check:?}");
+    assert!(check.unshadowed <= 1e-3, "{check:?}");
+    assert!(check.tree_vs_steps <= 1e-5, "{check:?}");
+    assert!(check.partly_shadowed > 100, "{check:?}");
+}
