@@ -299,7 +299,7 @@ pub const PASSES: &[PassSource] = &[
                 amount 1 - T, averaged by the resolve of a multisampled target the depth \
                 pre-pass wrote with fog_layout), bound as unfilterable float. Under \
                 VOLFOG_APPLY_EPIPOLAR group 1 binding 1 is the epipolar shaft texture \
-                (rgba16float, r the lit fraction), bound as unfilterable float.",
+                (rgba16float, rgb the lit fraction), bound as unfilterable float.",
         render: FULLSCREEN_COMPOSITE
     ),
     pass!(
@@ -489,43 +489,54 @@ pub const PASSES: &[PassSource] = &[
     ),
     pass!(
         "epipolar_march",
-        axes: &[Axis::Flag("VOLFOG_EPIPOLAR_BRUTE_FORCE")],
+        axes: &[
+            Axis::Flag("VOLFOG_EPIPOLAR_BRUTE_FORCE"),
+            Axis::Flag("VOLFOG_EPIPOLAR_COLORED"),
+        ],
         values: &[],
         usage: "Dispatch ceil(samples / 64) x slices workgroups after epipolar_refine and \
                 epipolar_tree. Binding 4 is the tree texture (unfilterable float); under \
                 VOLFOG_EPIPOLAR_BRUTE_FORCE the shadow map (2D array, unfilterable float). \
-                Binding 5: r32float, samples x slices, storage and texture binding usage."
+                Binding 5: rgba32float, samples x slices, storage and texture binding \
+                usage. Under VOLFOG_EPIPOLAR_COLORED binding 6 is the light-space colour \
+                texture (rgb, texel-aligned with the cascade), bound as unfilterable float."
     ),
     pass!(
         "epipolar_interpolate",
         axes: &[],
         values: &[],
         usage: "Dispatch ceil(samples / 64) x slices workgroups after epipolar_march. Binding 3: \
-                r32float, samples x slices, storage and texture binding usage."
+                rgba32float, samples x slices, storage and texture binding usage."
     ),
     pass!(
         "epipolar_resolve",
-        axes: &[],
+        axes: &[Axis::Flag("VOLFOG_EPIPOLAR_COLORED")],
         values: &[],
         usage: "Dispatch ceil(width / downscale / 8) x ceil(height / downscale / 8) workgroups \
                 after epipolar_interpolate. Binding 6: rgba16float, ceil(width / downscale) x \
                 ceil(height / downscale), storage and texture binding usage; binding 7 a \
-                storage buffer of at least 2 u32 counters (zero them each frame)."
+                storage buffer of at least 2 u32 counters (zero them each frame). Under \
+                VOLFOG_EPIPOLAR_COLORED binding 8 is the light-space colour texture, bound \
+                as unfilterable float."
     ),
     pass!(
         "epipolar_upscale",
-        axes: &[],
+        axes: &[Axis::Flag("VOLFOG_EPIPOLAR_COLORED")],
         values: &[],
         usage: "Only when downscale > 1: dispatch ceil(width / 8) x ceil(height / 8) workgroups \
                 after epipolar_resolve. Binding 5, the shaft texture: rgba16float, width x \
-                height, storage and texture binding usage; binding 6 the resolve's counters."
+                height, storage and texture binding usage; binding 6 the resolve's counters. \
+                Under VOLFOG_EPIPOLAR_COLORED binding 7 is the light-space colour texture, \
+                bound as unfilterable float."
     ),
     pass!(
         "epipolar_reference",
-        axes: &[],
+        axes: &[Axis::Flag("VOLFOG_EPIPOLAR_COLORED")],
         values: &[],
         usage: "The brute-force reference: dispatch ceil(width / 8) x ceil(height / 8) \
-                workgroups; binding 4 is the shaft texture (rgba16float, width x height)."
+                workgroups; binding 4 is the shaft texture (rgba16float, width x height). \
+                Under VOLFOG_EPIPOLAR_COLORED binding 5 is the light-space colour texture, \
+                bound as unfilterable float."
     ),
     pass!(
         "epipolar_apply",

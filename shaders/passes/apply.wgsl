@@ -19,7 +19,7 @@
 //          at the resolved view depth, the fog amount averaged over the samples.
 //          VOLFOG_APPLY_EPIPOLAR — the far field: beyond the far plane the tail's sun
 //          light is shadowed by epipolar sun shafts (Yusov 2012); group 1 binding 1 is
-//          the shaft texture (rgba16float, r the shaft term; EpipolarShafts marched
+//          the shaft texture (rgba16float, rgb the lit fraction; EpipolarShafts marched
 //          from the far plane in the tail's medium), read with textureLoad.
 
 #import volfog::bindings
@@ -50,7 +50,7 @@ fn apply_fs(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
     let fog = fog_sample(bindings::fog_integrated, bindings::fog_sampler, coord);
 #endif
 #ifdef VOLFOG_APPLY_EPIPOLAR
-    let shafts = textureLoad(epipolar_shafts, vec2<i32>(frag.xy), 0).r;
+    let shafts = textureLoad(epipolar_shafts, vec2<i32>(frag.xy), 0).rgb;
     let tail = fog_tail_shafts(froxels, bindings::fog_far_tail, view, shafts);
 #else
     let tail = fog_tail(froxels, bindings::fog_far_tail, view);

@@ -29,6 +29,6 @@ fn epipolar_apply_fs(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f3
     let depth = textureLoad(scene_depth, vec2<i32>(frag.xy), 0).r;
     let z = abs(view_from_ndc(vec3<f32>(ndc, depth), epipolar_frame.view_from_clip).z);
     let view = epipolar_view_ray(epipolar_frame.view_from_clip, ndc) * min(z, 3.0e37);
-    let s = textureLoad(shaft_texture, vec2<i32>(frag.xy), 0).r;
+    let s = textureLoad(shaft_texture, vec2<i32>(frag.xy), 0).rgb;
     return epipolar_fog(epipolar_frame, medium, view, s);
 }

@@ -8,8 +8,11 @@
 //   1 uniform HeightFog: the medium, in view space
 //   2 texture_2d<f32>, unfilterable: the scene depth buffer, full resolution
 //   3 texture_2d_array<f32>: the shadow map
-//   4 storage texture rgba16float, write: the shaft texture (r the lit fraction F, g
-//     the view depth, b 0, a 1)
+//   4 storage texture rgba16float, write: the shaft texture (rgb the lit fraction F, a
+//     the view depth)
+//   5 texture_2d<f32>, unfilterable (VOLFOG_EPIPOLAR_COLORED only): the light-space
+//     colour texture
+// Defines: VOLFOG_EPIPOLAR_COLORED — coloured shafts.
 
 #import volfog::types::{EpipolarFrame, HeightFog}
 #import volfog::epipolar::epipolar_march_pixel
@@ -20,6 +23,9 @@
 @group(0) @binding(2) var scene_depth: texture_2d<f32>;
 @group(0) @binding(3) var shadow_map: texture_2d_array<f32>;
 @group(0) @binding(4) var shaft_texture: texture_storage_2d<rgba16float, write>;
+#ifdef VOLFOG_EPIPOLAR_COLORED
+@group(0) @binding(5) var light_colors: texture_2d<f32>;
+#endif
 
 @compute @workgroup_size(8, 8, 1)
 fn epipolar_reference(@builtin(global_invocation_id) id: vec3<u32>) {
@@ -31,6 +37,10 @@ fn epipolar_reference(@builtin(global_invocation_id) id: vec3<u32>) {
     let ndc = vec2<f32>(uv.x * 2.0 - 1.0, 1.0 - uv.y * 2.0);
     let depth = textureLoad(scene_depth, vec2<i32>(id.xy), 0).r;
     let z = min(abs(view_from_ndc(vec3<f32>(ndc, depth), epipolar_frame.view_from_clip).z), epipolar_frame.max_depth);
+#ifdef VOLFOG_EPIPOLAR_COLORED
+    let s = epipolar_march_pixel(shadow_map, epipolar_frame, medium, ndc, epipolar_frame.start_depth, z, epipolar_frame.reference_steps, light_colors);
+#else
     let s = epipolar_march_pixel(shadow_map, epipolar_frame, medium, ndc, epipolar_frame.start_depth, z, epipolar_frame.reference_steps);
-    textureStore(shaft_texture, vec2<i32>(id.xy), vec4<f32>(s, z, 0.0, 1.0));
+#endif
+    textureStore(shaft_texture, vec2<i32>(id.xy), vec4<f32>(s, z));
 }

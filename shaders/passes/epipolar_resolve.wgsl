@@ -14,9 +14,12 @@
 //   3 texture_2d<f32>, unfilterable: the coordinate texture
 //   4 texture_2d<f32>, unfilterable: the interpolated lit fractions
 //   5 texture_2d_array<f32>: the shadow map
-//   6 storage texture rgba16float, write: r the lit fraction F, g the view depth (m),
-//     b 1 where the pixel was corrected by a march, a 1
+//   6 storage texture rgba16float, write: rgb the lit fraction F, a the view depth (m)
 //   7 storage buffer, read_write, array<atomic<u32>>: element 0 counts corrected pixels
+//   8 texture_2d<f32>, unfilterable (VOLFOG_EPIPOLAR_COLORED only): the light-space
+//     colour texture
+// Defines: VOLFOG_EPIPOLAR_COLORED — coloured shafts (the correcting march reads the
+//          colour texture).
 
 #import volfog::types::{EpipolarFrame, HeightFog}
 #import volfog::epipolar::{epipolar_pixel_slice, epipolar_line, epipolar_line_position, epipolar_continuous, epipolar_march_pixel, EPIPOLAR_INVALID}
@@ -30,6 +33,9 @@
 @group(0) @binding(5) var shadow_map: texture_2d_array<f32>;
 @group(0) @binding(6) var resolved: texture_storage_2d<rgba16float, write>;
 @group(0) @binding(7) var<storage, read_write> counters: array<atomic<u32>>;
+#ifdef VOLFOG_EPIPOLAR_COLORED
+@group(0) @binding(8) var light_colors: texture_2d<f32>;
+#endif
 
 // Weight below which a pixel counts as not served by any sample.
 const MIN_WEIGHT: f32 = 1e-3;
@@ -53,7 +59,7 @@ fn epipolar_resolve(@builtin(global_invocation_id) id: vec3<u32>) {
     let js = epipolar_pixel_slice(epipolar_frame, ndc) - 0.5;
     let j0 = floor(js);
     let wj = js - j0;
-    var total = 0.0;
+    var total = vec3<f32>(0.0);
     var weight = 0.0;
     for (var side = 0; side < 2; side += 1) {
         let slice = ((i32(j0) + side) % n + n) % n;
@@ -75,16 +81,18 @@ fn epipolar_resolve(@builtin(global_invocation_id) id: vec3<u32>) {
                 continue;
             }
             let w = ws * select(1.0 - wk, wk, step == 1);
-            total += w * textureLoad(interpolated, vec2<i32>(k, slice), 0).r;
+            total += w * textureLoad(interpolated, vec2<i32>(k, slice), 0).rgb;
             weight += w;
         }
     }
     var s = total / max(weight, 1e-30);
-    var fixed = 0.0;
     if weight < MIN_WEIGHT {
+#ifdef VOLFOG_EPIPOLAR_COLORED
+        s = epipolar_march_pixel(shadow_map, epipolar_frame, medium, ndc, epipolar_frame.start_depth, z, epipolar_frame.fix_steps, light_colors);
+#else
         s = epipolar_march_pixel(shadow_map, epipolar_frame, medium, ndc, epipolar_frame.start_depth, z, epipolar_frame.fix_steps);
-        fixed = 1.0;
+#endif
         atomicAdd(&counters[0], 1u);
     }
-    textureStore(resolved, vec2<i32>(id.xy), vec4<f32>(s, z, fixed, 1.0));
+    textureStore(resolved, vec2<i32>(id.xy), vec4<f32>(s, z));
 }

@@ -121,14 +121,14 @@ fn fog_tail(froxels: Froxels, tail: HeightFog, view_pos: vec3<f32>) -> vec4<f32>
 }
 
 // fog_tail with the sun's light shadowed: the far field of epipolar sun shafts
-// (volfog::epipolar). shafts is the lit fraction F in [0, 1] read from the shaft
-// texture at the pixel (marched in the same HeightFog, view space, from the far plane
+// (volfog::epipolar). shafts is the lit fraction F in [0, 1] per colour channel, the
+// shaft texture's rgb at the pixel (marched in the same HeightFog, view space, from the far plane
 // to the point): the tail's constant colour fills the whole segment, its sun lobe the
 // fraction F of it: vec4((color + sun_color * HG * F) * (1 - T), T). F = 1 (nothing
 // shadows) gives fog_tail exactly; at the far plane both are empty.
-fn fog_tail_shafts(froxels: Froxels, tail: HeightFog, view_pos: vec3<f32>, shafts: f32) -> vec4<f32> {
+fn fog_tail_shafts(froxels: Froxels, tail: HeightFog, view_pos: vec3<f32>, shafts: vec3<f32>) -> vec4<f32> {
     var shadowed = tail;
-    shadowed.sun_color = tail.sun_color * clamp(shafts, 0.0, 1.0);
+    shadowed.sun_color = tail.sun_color * clamp(shafts, vec3<f32>(0.0), vec3<f32>(1.0));
     return fog_tail(froxels, shadowed, view_pos);
 }
 

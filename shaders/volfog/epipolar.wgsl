@@ -6,7 +6,10 @@
 //           a forward shader that only wants the result reads the shaft texture at its
 //           pixel and calls epipolar_fog (alone) or volfog::apply::fog_tail_shafts (the
 //           far field of a froxel volume).
-// Defines:  none
+// Defines:  VOLFOG_EPIPOLAR_COLORED — coloured shafts: the marches take a light-space
+//           colour texture (the colour of the light after stained glass, texel-aligned
+//           with the shadow map's cascade) and multiply the light of every lit section
+//           by it; the tree then skips only shadowed nodes (Yusov 2012, 6.4).
 // Geometry: the epipole e is the sun's position on the screen (EpipolarFrame.
 //           light_screen, normalised device coordinates). Slice j of n runs from its
 //           entry point (e itself when e is on the screen, else where the line from e
@@ -32,8 +35,9 @@
 //           P * (T(a) - T(b)), T the transmittance from the start of the march and P
 //           the phase term (epipolar_phase). A march gives the shaft term
 //           S = sum over lit sections of (T(a) - T(b)) (dimensionless, in [0, 1 - T]);
-//           the passes carry the lit fraction F = S / (1 - T) in [0, 1] (1 where
-//           nothing shadows) and apply the medium per pixel: F only changes where
+//           the passes carry the lit fraction F = S / (1 - T) in [0, 1] per colour
+//           channel (1 where nothing shadows; coloured shafts weight each lit section
+//           by the light's colour there) and apply the medium per pixel: F only changes where
 //           shadows do, while 1 - T changes with every ray's height and length, and P
 //           fastest near the epipole, so neither is interpolated. Where nothing
 //           shadows, F = 1 and the fog equals volfog::height_fog's.
@@ -346,12 +350,22 @@ fn epipolar_transmittance(fog: HeightFog, ray: EpipolarRay, t: f32) -> f32 {
 
 // The lit fraction F = S / (1 - T(1)) of a ray's shaft term s, in [0, 1]; 1 when the
 // ray absorbs almost nothing (1 - T <= 1e-6), where S carries no information.
-fn epipolar_lit_fraction(fog: HeightFog, ray: EpipolarRay, s: f32) -> f32 {
+fn epipolar_lit_fraction(fog: HeightFog, ray: EpipolarRay, s: vec3<f32>) -> vec3<f32> {
     let absorbed = 1.0 - epipolar_transmittance(fog, ray, 1.0);
     if absorbed <= 1e-6 {
-        return 1.0;
+        return vec3<f32>(1.0);
     }
-    return clamp(s / absorbed, 0.0, 1.0);
+    return clamp(s / absorbed, vec3<f32>(0.0), vec3<f32>(1.0));
+}
+
+// Colour of the light at height-map entry k of a slice: the light-space colour texture
+// at the texel of epipolar_height (white off the map).
+fn epipolar_color(colors: texture_2d<f32>, map: vec4<f32>, k: u32, size: u32) -> vec3<f32> {
+    let q = floor(map.xy + (f32(k) + 0.5) * map.zw);
+    if any(q < vec2<f32>(0.0)) || any(q >= vec2<f32>(f32(size))) {
+        return vec3<f32>(1.0);
+    }
+    return textureLoad(colors, vec2<i32>(q), 0).rgb;
 }
 
 // Fraction of the ray where its projection reaches height-map position i.
@@ -369,36 +383,55 @@ fn epipolar_level_offset(size: u32, level: u32) -> u32 {
     return 2u * size - ((2u * size) >> level);
 }
 
-// Shaft term S of a ray visiting every section of the slice's height map, read from
-// the shadow map (Yusov 2012, Algorithm 1). Rays whose projection is shorter than a
-// texel take one section.
-fn epipolar_march_steps(shadow: texture_2d_array<f32>, layer: u32, map: vec4<f32>, size: u32, bias: f32, fog: HeightFog, ray: EpipolarRay) -> f32 {
+// Shaft term S (per colour channel) of a ray visiting every section of the slice's
+// height map, read from the shadow map (Yusov 2012, Algorithm 1). Rays whose projection
+// is shorter than a texel take one section.
+fn epipolar_march_steps(
+    shadow: texture_2d_array<f32>,
+    layer: u32,
+    map: vec4<f32>,
+    size: u32,
+    bias: f32,
+    fog: HeightFog,
+    ray: EpipolarRay,
+#ifdef VOLFOG_EPIPOLAR_COLORED
+    colors: texture_2d<f32>,
+#endif
+) -> vec3<f32> {
     if ray.end - ray.start < 1.0 {
         let k = u32(clamp(floor(0.5 * (ray.start + ray.end)), 0.0, f32(size)));
         var h = EPIPOLAR_LIT_DEPTH;
+        var c = vec3<f32>(1.0);
         if k < size {
             h = epipolar_height(shadow, layer, map, k, size, bias);
+#ifdef VOLFOG_EPIPOLAR_COLORED
+            c = epipolar_color(colors, map, k, size);
+#endif
         }
         let lit = epipolar_lit(ray, 0.0, 1.0, h);
-        return select(0.0, 1.0 - epipolar_transmittance(fog, ray, 1.0), lit);
+        return select(vec3<f32>(0.0), c * (1.0 - epipolar_transmittance(fog, ray, 1.0)), lit);
     }
     let stop = epipolar_ray_fraction(ray, f32(size));
     var k = u32(max(floor(ray.start), 0.0));
     var ta = 0.0;
     var t_at_a = 1.0;
-    var sum = 0.0;
+    var sum = vec3<f32>(0.0);
     while ta < stop && k < size {
         let tb = min(epipolar_ray_fraction(ray, f32(k + 1u)), stop);
         let t_at_b = epipolar_transmittance(fog, ray, tb);
         if epipolar_lit(ray, ta, tb, epipolar_height(shadow, layer, map, k, size, bias)) {
-            sum += t_at_a - t_at_b;
+            var c = vec3<f32>(1.0);
+#ifdef VOLFOG_EPIPOLAR_COLORED
+            c = epipolar_color(colors, map, k, size);
+#endif
+            sum += c * (t_at_a - t_at_b);
         }
         ta = tb;
         t_at_a = t_at_b;
         k += 1u;
     }
-    // Beyond the map everything is lit.
-    return sum + t_at_a - epipolar_transmittance(fog, ray, 1.0);
+    // Beyond the map everything is lit, in white.
+    return sum + vec3<f32>(t_at_a - epipolar_transmittance(fog, ray, 1.0));
 }
 
 // min and max of tree node `index` of level `level` of slice `slice`. Row `slice` of
@@ -422,19 +455,35 @@ fn epipolar_unpack_sources(packed: u32) -> vec2<u32> {
     return vec2<u32>(packed & 0xffffu, packed >> 16u);
 }
 
-// Shaft term S of a ray through the slice's min/max tree (Yusov 2012, Algorithm 2):
-// climb while the position is aligned to the parent's size, then descend until a node
-// is wholly lit (max light depth of the part <= node min), wholly shadowed (min light
-// depth > node max) or a single section; the same sum as epipolar_march_steps.
-fn epipolar_march_tree(tree: texture_2d<f32>, slice: u32, size: u32, fog: HeightFog, ray: EpipolarRay) -> f32 {
+// Shaft term S (per colour channel) of a ray through the slice's min/max tree (Yusov
+// 2012, Algorithm 2): climb while the position is aligned to the parent's size, then
+// descend until a node is wholly lit (max light depth of the part <= node min), wholly
+// shadowed (min light depth > node max) or a single section; the same sum as
+// epipolar_march_steps. Coloured shafts descend lit nodes too, to weight each section by
+// its colour (the slice's map is then needed to find its texel).
+fn epipolar_march_tree(
+    tree: texture_2d<f32>,
+    slice: u32,
+    size: u32,
+    fog: HeightFog,
+    ray: EpipolarRay,
+#ifdef VOLFOG_EPIPOLAR_COLORED
+    map: vec4<f32>,
+    colors: texture_2d<f32>,
+#endif
+) -> vec3<f32> {
     if ray.end - ray.start < 1.0 {
         let k = u32(clamp(floor(0.5 * (ray.start + ray.end)), 0.0, f32(size)));
         var h = EPIPOLAR_LIT_DEPTH;
+        var c = vec3<f32>(1.0);
         if k < size {
             h = epipolar_tree_node(tree, slice, size, 0u, k).x;
+#ifdef VOLFOG_EPIPOLAR_COLORED
+            c = epipolar_color(colors, map, k, size);
+#endif
         }
         let lit = epipolar_lit(ray, 0.0, 1.0, h);
-        return select(0.0, 1.0 - epipolar_transmittance(fog, ray, 1.0), lit);
+        return select(vec3<f32>(0.0), c * (1.0 - epipolar_transmittance(fog, ray, 1.0)), lit);
     }
     let top = countTrailingZeros(size);
     let stop = epipolar_ray_fraction(ray, f32(size));
@@ -445,7 +494,7 @@ fn epipolar_march_tree(tree: texture_2d<f32>, slice: u32, size: u32, fog: Height
     // is taken once, when a shadowed node (or the end) closes it.
     var lit_from = 0.0;
     var open = false;
-    var sum = 0.0;
+    var sum = vec3<f32>(0.0);
     var guard = 0u;
     while ta < stop && k < size && guard < 8u * size {
         guard += 1u;
@@ -461,7 +510,11 @@ fn epipolar_march_tree(tree: texture_2d<f32>, slice: u32, size: u32, fog: Height
             let da = mix(ray.light_start, ray.light_end, ta);
             let db = mix(ray.light_start, ray.light_end, tb);
             let node = epipolar_tree_node(tree, slice, size, level, k >> level);
+#ifdef VOLFOG_EPIPOLAR_COLORED
+            if max(da, db) <= node.x && level == 0u {
+#else
             if max(da, db) <= node.x {
+#endif
                 lit = true;
                 break;
             }
@@ -474,29 +527,48 @@ fn epipolar_march_tree(tree: texture_2d<f32>, slice: u32, size: u32, fog: Height
             }
             level -= 1u;
         }
+#ifdef VOLFOG_EPIPOLAR_COLORED
+        if lit {
+            let c = epipolar_color(colors, map, k, size);
+            sum += c * (epipolar_transmittance(fog, ray, ta) - epipolar_transmittance(fog, ray, tb));
+        }
+#else
         if lit && !open {
             lit_from = ta;
             open = true;
         } else if !lit && open {
-            sum += epipolar_transmittance(fog, ray, lit_from) - epipolar_transmittance(fog, ray, ta);
+            sum += vec3<f32>(epipolar_transmittance(fog, ray, lit_from) - epipolar_transmittance(fog, ray, ta));
             open = false;
         }
+#endif
         ta = tb;
         k += 1u << level;
     }
-    // Beyond the map everything is lit: the remainder joins an open run.
+    // Beyond the map everything is lit (in white): the remainder joins an open run.
     if !open {
         lit_from = ta;
     }
-    return sum + epipolar_transmittance(fog, ray, lit_from) - epipolar_transmittance(fog, ray, 1.0);
+    return sum + vec3<f32>(epipolar_transmittance(fog, ray, lit_from) - epipolar_transmittance(fog, ray, 1.0));
 }
 
 // Lit fraction F (see epipolar_lit_fraction) of the view ray through ndc from view
 // depth depth0 to depth1 (m) by brute force: `steps` equal steps, each lit when the
 // light depth at its middle is not behind the shadow map texel there (nearest texel,
-// lit off the map). The per-pixel reference and the correction of pixels
+// lit off the map), coloured by the light-space colour texture there under
+// VOLFOG_EPIPOLAR_COLORED. The per-pixel reference and the correction of pixels
 // interpolation cannot serve.
-fn epipolar_march_pixel(shadow: texture_2d_array<f32>, frame: EpipolarFrame, fog: HeightFog, ndc: vec2<f32>, depth0: f32, depth1: f32, steps: u32) -> f32 {
+fn epipolar_march_pixel(
+    shadow: texture_2d_array<f32>,
+    frame: EpipolarFrame,
+    fog: HeightFog,
+    ndc: vec2<f32>,
+    depth0: f32,
+    depth1: f32,
+    steps: u32,
+#ifdef VOLFOG_EPIPOLAR_COLORED
+    colors: texture_2d<f32>,
+#endif
+) -> vec3<f32> {
     let dir = epipolar_view_ray(frame.view_from_clip, ndc);
     var ray: EpipolarRay;
     ray.origin = dir * depth0;
@@ -504,19 +576,23 @@ fn epipolar_march_pixel(shadow: texture_2d_array<f32>, frame: EpipolarFrame, fog
     let size = f32(frame.shadow_size);
     let n = max(steps, 1u);
     var t_at_a = 1.0;
-    var sum = 0.0;
+    var sum = vec3<f32>(0.0);
     for (var i = 0u; i < n; i += 1u) {
         let ta = f32(i) / f32(n);
         let tb = f32(i + 1u) / f32(n);
         let l = epipolar_light_texel(frame, ray.origin + ray.segment * (0.5 * (ta + tb)));
         let q = floor(l.xy);
         var h = EPIPOLAR_LIT_DEPTH;
+        var c = vec3<f32>(1.0);
         if all(q >= vec2<f32>(0.0)) && all(q < vec2<f32>(size)) {
             h = textureLoad(shadow, vec2<i32>(q), i32(frame.cascade), 0).r + frame.depth_bias;
+#ifdef VOLFOG_EPIPOLAR_COLORED
+            c = textureLoad(colors, vec2<i32>(q), 0).rgb;
+#endif
         }
         let t_at_b = epipolar_transmittance(fog, ray, tb);
         if l.z <= h {
-            sum += t_at_a - t_at_b;
+            sum += c * (t_at_a - t_at_b);
         }
         t_at_a = t_at_b;
     }
@@ -537,12 +613,12 @@ fn epipolar_phase(frame: EpipolarFrame, fog: HeightFog, view_dir: vec3<f32>) -> 
     return fog.sun_color * lobe + frame.rayleigh * phase_rayleigh(c);
 }
 
-// Fog of a view-space point (m) with lit fraction `shafts` (the shaft texture's r):
+// Fog of a view-space point (m) with lit fraction `shafts` (the shaft texture's rgb):
 // vec4(in-scattered radiance, transmittance) from frame.start_depth to the point (or to
 // frame.max_depth): (fog.color + P * F) * (1 - T), the medium's constant colour over
 // the whole segment, the sun's light where it reaches. Combine with
 // volfog::apply::apply_fog.
-fn epipolar_fog(frame: EpipolarFrame, fog: HeightFog, view_pos: vec3<f32>, shafts: f32) -> vec4<f32> {
+fn epipolar_fog(frame: EpipolarFrame, fog: HeightFog, view_pos: vec3<f32>, shafts: vec3<f32>) -> vec4<f32> {
     let depth = abs(view_pos.z);
     let end = min(depth, frame.max_depth);
     if end <= frame.start_depth || depth <= 0.0 {
@@ -552,6 +628,6 @@ fn epipolar_fog(frame: EpipolarFrame, fog: HeightFog, view_pos: vec3<f32>, shaft
     let segment = view_pos * (end / depth) - origin;
     let od = height_fog_optical_depth(fog.density, fog.falloff, fog.base_height, fog.up, origin, segment);
     let view_dir = view_pos / length(view_pos);
-    let radiance = fog.color + epipolar_phase(frame, fog, view_dir) * clamp(shafts, 0.0, 1.0);
+    let radiance = fog.color + epipolar_phase(frame, fog, view_dir) * clamp(shafts, vec3<f32>(0.0), vec3<f32>(1.0));
     return fog_inscatter(radiance, od);
 }

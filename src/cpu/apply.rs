@@ -106,10 +106,10 @@ pub fn fog_tail(froxels: &Froxels, tail: &HeightFog, view_pos: Vec3) -> Vec4 {
 
 /// `fog_tail` with the sun's light shadowed by the epipolar lit fraction `shafts` (the
 /// far field; mirror of `volfog::apply::fog_tail_shafts`): the tail's sun colour scaled
-/// by `shafts` in [0, 1].
-pub fn fog_tail_shafts(froxels: &Froxels, tail: &HeightFog, view_pos: Vec3, shafts: f32) -> Vec4 {
+/// by `shafts` in [0, 1] per channel.
+pub fn fog_tail_shafts(froxels: &Froxels, tail: &HeightFog, view_pos: Vec3, shafts: Vec3) -> Vec4 {
     let shadowed = HeightFog {
-        sun_color: tail.sun_color * shafts.clamp(0.0, 1.0),
+        sun_color: tail.sun_color * shafts.clamp(Vec3::ZERO, Vec3::ONE),
         ..*tail
     };
     fog_tail(froxels, &shadowed, view_pos)

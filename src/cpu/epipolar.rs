@@ -52,7 +52,7 @@ fn fract(x: f32) -> f32 {
 
 /// One layer of the shadow map (light depth in [0, 1] per texel, row-major,
 /// `depths[y * size + x]`): the layer `frame.cascade` the WGSL reads from its
-/// `texture_depth_2d_array`.
+/// `texture_2d_array<f32>`.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ShadowLayer<'a> {
     /// Side of the layer in texels (`EpipolarFrame::shadow_size`).
@@ -66,6 +66,30 @@ impl ShadowLayer<'_> {
     pub fn load(&self, x: u32, y: u32) -> f32 {
         self.depths[(y * self.size + x) as usize]
     }
+}
+
+/// The light-space colour texture of coloured shafts (`VOLFOG_EPIPOLAR_COLORED`): the
+/// light's colour after stained glass per texel of the cascade, row-major
+/// (`colors[y * size + x]`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ColorLayer<'a> {
+    /// Side in texels (`EpipolarFrame::shadow_size`).
+    pub size: u32,
+    /// `size * size` colours (linear rgb), row-major, v down.
+    pub colors: &'a [Vec3],
+}
+
+/// Colour of the light at height-map entry `k` of a slice (white off the map, or
+/// without colours); mirror of `volfog::epipolar::epipolar_color`.
+pub fn color(colors: Option<&ColorLayer>, map: Vec4, k: u32) -> Vec3 {
+    let Some(c) = colors else {
+        return Vec3::ONE;
+    };
+    let q = (map.xy() + (k as f32 + 0.5) * map.zw()).floor();
+    if q.cmplt(Vec2::ZERO).any() || q.cmpge(Vec2::splat(c.size as f32)).any() {
+        return Vec3::ONE;
+    }
+    c.colors[(q.y as u32 * c.size + q.x as u32) as usize]
 }
 
 /// A view ray's segment set up for the march: view-space start and extent (m), its
@@ -456,60 +480,70 @@ pub fn march_steps(
     bias: f32,
     fog: &HeightFog,
     ray: &EpipolarRay,
-) -> f32 {
+    colors: Option<&ColorLayer>,
+) -> Vec3 {
     let size = shadow.size;
     if ray.end - ray.start < 1.0 {
         let k = (0.5 * (ray.start + ray.end))
             .floor()
             .clamp(0.0, size as f32) as u32;
-        let h = if k < size {
-            height(shadow, map, k, bias)
+        let (h, c) = if k < size {
+            (height(shadow, map, k, bias), color(colors, map, k))
         } else {
-            LIT_DEPTH
+            (LIT_DEPTH, Vec3::ONE)
         };
-        let is_lit = lit(ray, 0.0, 1.0, h);
-        return if is_lit {
-            1.0 - transmittance(fog, ray, 1.0)
+        return if lit(ray, 0.0, 1.0, h) {
+            c * (1.0 - transmittance(fog, ray, 1.0))
         } else {
-            0.0
+            Vec3::ZERO
         };
     }
     let stop = ray_fraction(ray, size as f32);
     let mut k = ray.start.floor().max(0.0) as u32;
     let mut ta = 0.0f32;
     let mut t_at_a = 1.0f32;
-    let mut sum = 0.0f32;
+    let mut sum = Vec3::ZERO;
     while ta < stop && k < size {
         let tb = ray_fraction(ray, (k + 1) as f32).min(stop);
         let t_at_b = transmittance(fog, ray, tb);
         if lit(ray, ta, tb, height(shadow, map, k, bias)) {
-            sum += t_at_a - t_at_b;
+            sum += color(colors, map, k) * (t_at_a - t_at_b);
         }
         ta = tb;
         t_at_a = t_at_b;
         k += 1;
     }
-    // Beyond the map everything is lit.
-    sum + t_at_a - transmittance(fog, ray, 1.0)
+    // Beyond the map everything is lit, in white.
+    sum + Vec3::splat(t_at_a - transmittance(fog, ray, 1.0))
 }
 
-/// Shaft term S (dimensionless) of `ray` through row `slice` of the min/max `tree`
-/// (Yusov 2012, Algorithm 2), the same sum as [`march_steps`]; mirror of
+/// Shaft term S (per colour channel) of `ray` through row `slice` of the min/max
+/// `tree` (Yusov 2012, Algorithm 2), the same sum as [`march_steps`]; with `colors`
+/// (the slice's `map` locates their texels) lit nodes are descended too; mirror of
 /// `volfog::epipolar::epipolar_march_tree`.
-pub fn march_tree(tree: &MinMaxTree, slice: u32, fog: &HeightFog, ray: &EpipolarRay) -> f32 {
+pub fn march_tree(
+    tree: &MinMaxTree,
+    slice: u32,
+    fog: &HeightFog,
+    ray: &EpipolarRay,
+    colors: Option<(Vec4, &ColorLayer)>,
+) -> Vec3 {
     let size = tree.size;
+    let layer = colors.map(|(_, c)| c);
+    let map = colors.map_or(Vec4::ZERO, |(m, _)| m);
     if ray.end - ray.start < 1.0 {
         let k = (0.5 * (ray.start + ray.end))
             .floor()
             .clamp(0.0, size as f32) as u32;
-        let mut h = LIT_DEPTH;
-        if k < size {
-            h = tree.node(slice, 0, k).x;
-        }
-        return if lit(ray, 0.0, 1.0, h) {
-            1.0 - transmittance(fog, ray, 1.0)
+        let (h, c) = if k < size {
+            (tree.node(slice, 0, k).x, color(layer, map, k))
         } else {
-            0.0
+            (LIT_DEPTH, Vec3::ONE)
+        };
+        return if lit(ray, 0.0, 1.0, h) {
+            c * (1.0 - transmittance(fog, ray, 1.0))
+        } else {
+            Vec3::ZERO
         };
     }
     let top = size.trailing_zeros();
@@ -520,7 +554,7 @@ pub fn march_tree(tree: &MinMaxTree, slice: u32, fog: &HeightFog, ray: &Epipolar
     // Consecutive lit nodes form one run [lit_from, ta], taken once when it closes.
     let mut lit_from = 0.0f32;
     let mut open = false;
-    let mut sum = 0.0f32;
+    let mut sum = Vec3::ZERO;
     let mut guard = 0u32;
     while ta < stop && k < size && guard < 8 * size {
         guard += 1;
@@ -536,7 +570,7 @@ pub fn march_tree(tree: &MinMaxTree, slice: u32, fog: &HeightFog, ray: &Epipolar
             let da = mix(ray.light_start, ray.light_end, ta);
             let db = mix(ray.light_start, ray.light_end, tb);
             let node = tree.node(slice, level, k >> level);
-            if da.max(db) <= node.x {
+            if da.max(db) <= node.x && (layer.is_none() || level == 0) {
                 is_lit = true;
                 break;
             }
@@ -549,21 +583,26 @@ pub fn march_tree(tree: &MinMaxTree, slice: u32, fog: &HeightFog, ray: &Epipolar
             }
             level -= 1;
         }
-        if is_lit && !open {
+        if layer.is_some() {
+            if is_lit {
+                sum += color(layer, map, k)
+                    * (transmittance(fog, ray, ta) - transmittance(fog, ray, tb));
+            }
+        } else if is_lit && !open {
             lit_from = ta;
             open = true;
         } else if !is_lit && open {
-            sum += transmittance(fog, ray, lit_from) - transmittance(fog, ray, ta);
+            sum += Vec3::splat(transmittance(fog, ray, lit_from) - transmittance(fog, ray, ta));
             open = false;
         }
         ta = tb;
         k += 1u32 << level;
     }
-    // Beyond the map everything is lit: the remainder joins an open run.
+    // Beyond the map everything is lit (in white): the remainder joins an open run.
     if !open {
         lit_from = ta;
     }
-    sum + transmittance(fog, ray, lit_from) - transmittance(fog, ray, 1.0)
+    sum + Vec3::splat(transmittance(fog, ray, lit_from) - transmittance(fog, ray, 1.0))
 }
 
 /// Lit fraction F (see [`lit_fraction`]) of the view ray through `ndc` from view depth
@@ -577,7 +616,8 @@ pub fn march_pixel(
     depth0: f32,
     depth1: f32,
     steps: u32,
-) -> f32 {
+    colors: Option<&ColorLayer>,
+) -> Vec3 {
     let dir = view_ray(frame.view_from_clip, ndc);
     let ray = EpipolarRay {
         origin: dir * depth0,
@@ -587,19 +627,23 @@ pub fn march_pixel(
     let size = frame.shadow_size as f32;
     let n = steps.max(1);
     let mut t_at_a = 1.0f32;
-    let mut sum = 0.0f32;
+    let mut sum = Vec3::ZERO;
     for i in 0..n {
         let ta = i as f32 / n as f32;
         let tb = (i + 1) as f32 / n as f32;
         let l = light_texel(frame, ray.origin + ray.segment * (0.5 * (ta + tb)));
         let q = l.xy().floor();
         let mut h = LIT_DEPTH;
+        let mut c = Vec3::ONE;
         if q.cmpge(Vec2::ZERO).all() && q.cmplt(Vec2::splat(size)).all() {
             h = shadow.load(q.x as u32, q.y as u32) + frame.depth_bias;
+            if let Some(layer) = colors {
+                c = layer.colors[(q.y as u32 * layer.size + q.x as u32) as usize];
+            }
         }
         let t_at_b = transmittance(fog, &ray, tb);
         if l.z <= h {
-            sum += t_at_a - t_at_b;
+            sum += c * (t_at_a - t_at_b);
         }
         t_at_a = t_at_b;
     }
@@ -619,12 +663,12 @@ pub fn unpack_sources(packed: u32) -> UVec2 {
 
 /// The lit fraction F = S / (1 - T(1)) of a ray's shaft term `s`, in [0, 1]; 1 when
 /// the ray absorbs almost nothing; mirror of `volfog::epipolar::epipolar_lit_fraction`.
-pub fn lit_fraction(fog: &HeightFog, ray: &EpipolarRay, s: f32) -> f32 {
+pub fn lit_fraction(fog: &HeightFog, ray: &EpipolarRay, s: Vec3) -> Vec3 {
     let absorbed = 1.0 - transmittance(fog, ray, 1.0);
     if absorbed <= 1e-6 {
-        return 1.0;
+        return Vec3::ONE;
     }
-    (s / absorbed).clamp(0.0, 1.0)
+    (s / absorbed).clamp(Vec3::ZERO, Vec3::ONE)
 }
 
 /// Phase term P (linear rgb radiance per unit S) for the unit view direction
@@ -643,7 +687,7 @@ pub fn phase(frame: &EpipolarFrame, fog: &HeightFog, view_dir: Vec3) -> Vec3 {
 /// Fog `(in-scattered radiance rgb, transmittance)` from `frame.start_depth` to the
 /// view-space point `view_pos` (m, at most `frame.max_depth`) with shaft term `shafts`;
 /// mirror of `volfog::epipolar::epipolar_fog`.
-pub fn fog(frame: &EpipolarFrame, fog: &HeightFog, view_pos: Vec3, shafts: f32) -> Vec4 {
+pub fn fog(frame: &EpipolarFrame, fog: &HeightFog, view_pos: Vec3, shafts: Vec3) -> Vec4 {
     let depth = view_pos.z.abs();
     let end = depth.min(frame.max_depth);
     if end <= frame.start_depth || depth <= 0.0 {
@@ -660,7 +704,7 @@ pub fn fog(frame: &EpipolarFrame, fog: &HeightFog, view_pos: Vec3, shafts: f32) 
         segment,
     );
     let view_dir = view_pos / view_pos.length();
-    let radiance = fog.color + phase(frame, fog, view_dir) * shafts.clamp(0.0, 1.0);
+    let radiance = fog.color + phase(frame, fog, view_dir) * shafts.clamp(Vec3::ZERO, Vec3::ONE);
     super::height_fog::fog_inscatter(radiance, od)
 }
 
@@ -1185,8 +1229,9 @@ mod tests {
                     let depth1 = depth0 + rng.range(0.5, 150.0);
                     let map = slice_map(frame, j);
                     let r = ray(frame, map, p, depth0, depth1);
-                    let by_tree = f64::from(march_tree(&tree, j, &fog, &r));
-                    let by_steps = f64::from(march_steps(&shadow, map, frame.depth_bias, &fog, &r));
+                    let by_tree = f64::from(march_tree(&tree, j, &fog, &r, None).x);
+                    let by_steps =
+                        f64::from(march_steps(&shadow, map, frame.depth_bias, &fog, &r, None).x);
                     let reference = algorithm_1(&shadow, map, &r, f64::from(sigma));
                     let full = 1.0 - (-f64::from(sigma) * r.segment.as_dvec3().length()).exp();
                     let scale = by_steps.abs().max(reference.abs()).max(FLOOR);
@@ -1278,11 +1323,14 @@ mod tests {
                         * (-c * (o.dot(up) - f64::from(fog.base_height))).exp()
                         * mean;
                     let want = -(-od).exp_m1();
-                    let by_tree = f64::from(march_tree(&tree, j, &fog, &r));
-                    let by_steps = f64::from(march_steps(&shadow, map, frame.depth_bias, &fog, &r));
+                    let by_tree = f64::from(march_tree(&tree, j, &fog, &r, None).x);
+                    let by_steps =
+                        f64::from(march_steps(&shadow, map, frame.depth_bias, &fog, &r, None).x);
                     // march_pixel gives the lit fraction: 1 without shadows.
-                    let by_pixel =
-                        want * f64::from(march_pixel(&shadow, frame, &fog, p, depth0, depth1, 64));
+                    let by_pixel = want
+                        * f64::from(
+                            march_pixel(&shadow, frame, &fog, p, depth0, depth1, 64, None).x,
+                        );
                     for (name, got) in [("tree", by_tree), ("steps", by_steps), ("pixel", by_pixel)]
                     {
                         assert!(
@@ -1479,7 +1527,7 @@ mod tests {
                     view_pos,
                 ))
                 .exp();
-                let got = super::fog(&frame, &fog, view_pos, 1.0);
+                let got = super::fog(&frame, &fog, view_pos, Vec3::ONE);
                 assert!((got.w - t).abs() <= 1e-6 * t.max(1e-6), "{} {t}", got.w);
                 if phase_model == 0 {
                     let want = height_fog(&fog, Vec3::ZERO, view_pos);
@@ -1489,7 +1537,7 @@ mod tests {
                     assert!(phase(&frame, &fog, view_pos.normalize()).x > 0.0 && c.abs() <= 1.0);
                 }
                 // Shadowed everywhere: only the constant colour.
-                let dark = super::fog(&frame, &fog, view_pos, 0.0);
+                let dark = super::fog(&frame, &fog, view_pos, Vec3::ZERO);
                 assert!(
                     (dark.truncate() - fog.color * (1.0 - t))
                         .abs()
@@ -1504,7 +1552,7 @@ mod tests {
             ..frame
         };
         assert_eq!(
-            super::fog(&near, &fog, Vec3::new(0.0, 0.0, -5.0), 0.5),
+            super::fog(&near, &fog, Vec3::new(0.0, 0.0, -5.0), Vec3::splat(0.5)),
             Vec4::new(0.0, 0.0, 0.0, 1.0)
         );
     }

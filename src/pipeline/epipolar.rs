@@ -16,9 +16,10 @@ use crate::limits::InvalidValue;
 use crate::shaders::CodegenError;
 use crate::uniforms::{self, EpipolarFrame, EpipolarSampling, EpipolarView, HeightFog};
 
-/// Format of the shaft texture: r the lit fraction F in [0, 1] (the share of the
-/// medium's sun in-scattering along the pixel's ray that the sun reaches: 1 unshadowed),
-/// g the view depth (m), b 1 where a pixel was corrected by a march, a 1.
+/// Format of the shaft texture: rgb the lit fraction F in [0, 1] per colour channel (the
+/// share of the medium's sun in-scattering along the pixel's ray that the sun reaches:
+/// 1 unshadowed; the light's colour after stained glass for coloured shafts), a the
+/// view depth (m).
 pub const SHAFT_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
 /// Formats the depth buffer may have (read as unfilterable float).
 pub const DEPTH_FORMATS: [wgpu::TextureFormat; 5] = super::SCENE_DEPTH_FORMATS;
@@ -28,7 +29,7 @@ pub const SHADOW_FORMATS: [wgpu::TextureFormat; 3] = super::SHADOW_MAP_FORMATS;
 const COORD_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
 const SOURCE_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Uint;
 const TREE_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
-const TERM_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Float;
+const TERM_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
 /// Stride of the per-level uniforms of the tree build (the uniform offset alignment).
 const LEVEL_STRIDE: u64 = 256;
 
@@ -300,10 +301,10 @@ impl EpipolarShafts {
         ]
     }
 
-    /// Layout of `epipolar_march` (`steps`: `@EPIPOLAR_BRUTE_FORCE`): 0 frame, 1
-    /// medium, 2 coordinates, 3 sources, 4 the tree (the shadow map),
-    /// 6 shaft terms (r32float).
-    pub fn march_entries(steps: bool) -> Vec<wgpu::BindGroupLayoutEntry> {
+    /// Layout of `epipolar_march` (`steps`: `EPIPOLAR_BRUTE_FORCE`; `colored`:
+    /// `EPIPOLAR_COLORED`): 0 frame, 1 medium, 2 coordinates, 3 sources, 4 the tree
+    /// (the shadow map), 5 lit fractions (rgba32float), 6 the light colours (coloured).
+    pub fn march_entries(steps: bool, colored: bool) -> Vec<wgpu::BindGroupLayoutEntry> {
         let mut entries = vec![
             uniform_entry(0, C),
             uniform_entry(1, C),
@@ -316,6 +317,7 @@ impl EpipolarShafts {
             unfilterable(4)
         });
         entries.push(storage_entry(5, D2, TERM_FORMAT));
+        entries.extend(colored.then(|| unfilterable(6)));
         entries
     }
 
@@ -330,9 +332,10 @@ impl EpipolarShafts {
     }
 
     /// Layout of `epipolar_resolve`: 0 frame, 1 medium, 2 scene depth, 3 coordinates,
-    /// 4 interpolated, 5 shadow map, 6 resolved (rgba16float), 7 counters.
-    pub fn resolve_entries() -> Vec<wgpu::BindGroupLayoutEntry> {
-        vec![
+    /// 4 interpolated, 5 shadow map, 6 resolved (rgba16float), 7 counters, 8 the light
+    /// colours (`colored`).
+    pub fn resolve_entries(colored: bool) -> Vec<wgpu::BindGroupLayoutEntry> {
+        let mut entries = vec![
             uniform_entry(0, C),
             uniform_entry(1, C),
             unfilterable(2),
@@ -341,13 +344,15 @@ impl EpipolarShafts {
             shadow_entry(5),
             storage_entry(6, D2, SHAFT_FORMAT),
             storage_buffer_entry(7, C, false),
-        ]
+        ];
+        entries.extend(colored.then(|| unfilterable(8)));
+        entries
     }
 
     /// Layout of `epipolar_upscale`: 0 frame, 1 medium, 2 scene depth, 3 resolved, 4
-    /// shadow map, 5 shafts (rgba16float), 6 counters.
-    pub fn upscale_entries() -> Vec<wgpu::BindGroupLayoutEntry> {
-        vec![
+    /// shadow map, 5 shafts (rgba16float), 6 counters, 7 the light colours (`colored`).
+    pub fn upscale_entries(colored: bool) -> Vec<wgpu::BindGroupLayoutEntry> {
+        let mut entries = vec![
             uniform_entry(0, C),
             uniform_entry(1, C),
             unfilterable(2),
@@ -355,19 +360,23 @@ impl EpipolarShafts {
             shadow_entry(4),
             storage_entry(5, D2, SHAFT_FORMAT),
             storage_buffer_entry(6, C, false),
-        ]
+        ];
+        entries.extend(colored.then(|| unfilterable(7)));
+        entries
     }
 
     /// Layout of `epipolar_reference`: 0 frame, 1 medium, 2 scene depth, 3 shadow map,
-    /// 4 shafts (rgba16float).
-    pub fn reference_entries() -> Vec<wgpu::BindGroupLayoutEntry> {
-        vec![
+    /// 4 shafts (rgba16float), 5 the light colours (`colored`).
+    pub fn reference_entries(colored: bool) -> Vec<wgpu::BindGroupLayoutEntry> {
+        let mut entries = vec![
             uniform_entry(0, C),
             uniform_entry(1, C),
             unfilterable(2),
             shadow_entry(3),
             storage_entry(4, D2, SHAFT_FORMAT),
-        ]
+        ];
+        entries.extend(colored.then(|| unfilterable(5)));
+        entries
     }
 
     /// Layout of `epipolar_apply`: 0 frame, 1 medium, 2 scene depth, 3 shafts.
@@ -424,6 +433,11 @@ impl EpipolarShafts {
             let pipeline = compute_pipeline(device, entry, &module, entry, &layout);
             Ok::<_, CodegenError>((layout, pipeline))
         };
+        let colored: Vec<String> = if s.colored {
+            vec!["VOLFOG_EPIPOLAR_COLORED".to_string()]
+        } else {
+            Vec::new()
+        };
         let tree_layout = bind_group_layout(device, "epipolar_tree", &Self::tree_entries());
         let tree_module = shader_module(device, "epipolar_tree", &[])?;
         let tree_init = compute_pipeline(
@@ -456,15 +470,19 @@ impl EpipolarShafts {
             tree: (tree_layout, tree_init, tree_level),
             march: compute(
                 "epipolar_march",
-                &[],
+                &colored,
                 "epipolar_march",
-                Self::march_entries(false),
+                Self::march_entries(false, s.colored),
             )?,
             steps: compute(
                 "epipolar_march",
-                &["VOLFOG_EPIPOLAR_BRUTE_FORCE".to_string()],
+                &[
+                    colored.clone(),
+                    vec!["VOLFOG_EPIPOLAR_BRUTE_FORCE".to_string()],
+                ]
+                .concat(),
                 "epipolar_march",
-                Self::march_entries(true),
+                Self::march_entries(true, s.colored),
             )?,
             interpolate: compute(
                 "epipolar_interpolate",
@@ -474,21 +492,21 @@ impl EpipolarShafts {
             )?,
             resolve: compute(
                 "epipolar_resolve",
-                &[],
+                &colored,
                 "epipolar_resolve",
-                Self::resolve_entries(),
+                Self::resolve_entries(s.colored),
             )?,
             upscale: compute(
                 "epipolar_upscale",
-                &[],
+                &colored,
                 "epipolar_upscale",
-                Self::upscale_entries(),
+                Self::upscale_entries(s.colored),
             )?,
             reference: compute(
                 "epipolar_reference",
-                &[],
+                &colored,
                 "epipolar_reference",
-                Self::reference_entries(),
+                Self::reference_entries(s.colored),
             )?,
         };
         let uniform = |label: &str, size: u64| {
@@ -563,14 +581,72 @@ impl EpipolarShafts {
     /// Binds the scene depth buffer (`width` x `height`, one of [`DEPTH_FORMATS`],
     /// single-sampled) and the cascaded shadow map (a 2D texture of side
     /// `shadow_size`, one layer per cascade, one of [`SHADOW_FORMATS`]); both need
-    /// `TEXTURE_BINDING` usage. Call again when either is recreated.
+    /// `TEXTURE_BINDING` usage. Call again when either is recreated. With
+    /// `EpipolarSampling::colored`, see [`EpipolarShafts::set_inputs_colored`].
     pub fn set_inputs(
         &mut self,
         device: &wgpu::Device,
         depth: &wgpu::Texture,
         shadow: &wgpu::Texture,
     ) -> Result<(), EpipolarError> {
+        self.bind(device, depth, shadow, None)
+    }
+
+    /// [`EpipolarShafts::set_inputs`] for coloured shafts (`EpipolarSampling::colored`):
+    /// `colors` is the light-space colour texture, the light's colour after stained
+    /// glass as the cascade sees it (2D, `shadow_size` texels square, texel-aligned with
+    /// the cascade; a float format, rgb used), with `TEXTURE_BINDING` usage.
+    pub fn set_inputs_colored(
+        &mut self,
+        device: &wgpu::Device,
+        depth: &wgpu::Texture,
+        shadow: &wgpu::Texture,
+        colors: &wgpu::Texture,
+    ) -> Result<(), EpipolarError> {
+        self.bind(device, depth, shadow, Some(colors))
+    }
+
+    fn bind(
+        &mut self,
+        device: &wgpu::Device,
+        depth: &wgpu::Texture,
+        shadow: &wgpu::Texture,
+        colors: Option<&wgpu::Texture>,
+    ) -> Result<(), EpipolarError> {
         let s = self.sampling;
+        if s.colored != colors.is_some() {
+            return Err(EpipolarError::Texture {
+                texture: "the light colours",
+                property: "presence",
+                found: if colors.is_some() { "given" } else { "missing" }.into(),
+                expected: if s.colored {
+                    "a colour texture: EpipolarSampling::colored is set (set_inputs_colored)"
+                } else {
+                    "none: EpipolarSampling::colored is not set (set_inputs)"
+                }
+                .into(),
+            });
+        }
+        if let Some(c) = colors {
+            let float = matches!(
+                c.format().sample_type(None, Some(device.features())),
+                Some(wgpu::TextureSampleType::Float { .. })
+            );
+            if !float {
+                return Err(EpipolarError::Texture {
+                    texture: "the light colours",
+                    property: "format",
+                    found: format!("{:?}", c.format()),
+                    expected: "a float format (rgba8unorm, rgba16float, ...)".into(),
+                });
+            }
+            check_texture(
+                "the light colours",
+                c,
+                &[c.format()],
+                (s.shadow_size, s.shadow_size),
+            )?;
+        }
         check_texture(
             "the depth buffer",
             depth,
@@ -647,6 +723,8 @@ impl EpipolarShafts {
             .collect();
         let low = t.low.as_ref().map(view);
         let resolve_target = low.as_ref().unwrap_or(&shafts);
+        let color_view = colors.map(view);
+        let color = |binding: u32| color_view.as_ref().map(|v| (binding, R::TextureView(v)));
         let groups = Groups {
             coords: bind_group(
                 device,
@@ -680,7 +758,10 @@ impl EpipolarShafts {
                     (3, R::TextureView(&sources)),
                     (4, R::TextureView(&tree)),
                     (5, R::TextureView(&marched)),
-                ],
+                ]
+                .into_iter()
+                .chain(color(6))
+                .collect::<Vec<_>>(),
             ),
             steps: bind_group(
                 device,
@@ -693,7 +774,10 @@ impl EpipolarShafts {
                     (3, R::TextureView(&sources)),
                     (4, R::TextureView(&shadow_view)),
                     (5, R::TextureView(&marched)),
-                ],
+                ]
+                .into_iter()
+                .chain(color(6))
+                .collect::<Vec<_>>(),
             ),
             interpolate: bind_group(
                 device,
@@ -719,7 +803,10 @@ impl EpipolarShafts {
                     (5, R::TextureView(&shadow_view)),
                     (6, R::TextureView(resolve_target)),
                     (7, counters.clone()),
-                ],
+                ]
+                .into_iter()
+                .chain(color(8))
+                .collect::<Vec<_>>(),
             ),
             upscale: low.as_ref().map(|low| {
                 bind_group(
@@ -734,7 +821,10 @@ impl EpipolarShafts {
                         (4, R::TextureView(&shadow_view)),
                         (5, R::TextureView(&shafts)),
                         (6, counters.clone()),
-                    ],
+                    ]
+                    .into_iter()
+                    .chain(color(7))
+                    .collect::<Vec<_>>(),
                 )
             }),
             reference: bind_group(
@@ -747,7 +837,10 @@ impl EpipolarShafts {
                     (2, R::TextureView(&depth_view)),
                     (3, R::TextureView(&shadow_view)),
                     (4, R::TextureView(&shafts)),
-                ],
+                ]
+                .into_iter()
+                .chain(color(5))
+                .collect::<Vec<_>>(),
             ),
             depth: depth_view,
         };

@@ -49,12 +49,16 @@ pub struct EpipolarSampling {
     pub fix_steps: u32,
     /// Steps of the brute-force reference march per pixel, [1, 65536].
     pub reference_steps: u32,
+    /// Coloured shafts: the marches multiply the light by a light-space colour texture
+    /// (the `VOLFOG_EPIPOLAR_COLORED` variants; the tree then skips only shadow).
+    pub colored: bool,
 }
 
 impl EpipolarSampling {
     /// Yusov's settings for a `width` x `height` target and a shadow map of side
     /// `shadow_size`: 512 slices of 256 samples, initial step 16, downscale 2, depth
-    /// breaks at 3 % of the view depth, 32 correction steps, 256 reference steps.
+    /// breaks at 3 % of the view depth, 32 correction steps, 256 reference steps, white
+    /// light.
     pub fn new(width: u32, height: u32, shadow_size: u32) -> Self {
         Self {
             width,
@@ -67,6 +71,7 @@ impl EpipolarSampling {
             depth_threshold: 0.03,
             fix_steps: 32,
             reference_steps: 256,
+            colored: false,
         }
     }
 

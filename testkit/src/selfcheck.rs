@@ -721,11 +721,16 @@ pub fn epipolar_check(gpu: &Gpu) -> Result<EpipolarCheck, GpuError> {
         shafts.encode(&mut encoder, mode).map_err(|e| fail(&e))?;
         gpu.queue.submit([encoder.finish()]);
         let image = gpu.read_texture_rgba16f(shafts.shaft_texture())?;
-        let marched = gpu.read_texture_raw(shafts.marched_texture(), 4)?;
+        // The marched lit fraction is rgba32float: keep its first channel.
+        let marched = gpu.read_texture_raw(shafts.marched_texture(), 16)?;
         let sources = gpu.read_texture_raw(shafts.source_texture(), 4)?;
         Ok((
             image,
-            bytemuck::cast_slice(&marched).to_vec(),
+            bytemuck::cast_slice::<u8, f32>(&marched)
+                .iter()
+                .step_by(4)
+                .copied()
+                .collect(),
             bytemuck::cast_slice(&sources).to_vec(),
         ))
     };

@@ -258,18 +258,23 @@ fn runtime_layouts_match_the_shaders() {
             ("epipolar_coords@default", E::coords_entries()),
             ("epipolar_refine@default", E::refine_entries()),
             ("epipolar_tree@default", E::tree_entries()),
-            ("epipolar_march@default", E::march_entries(false)),
-            (
-                "epipolar_march@EPIPOLAR_BRUTE_FORCE",
-                E::march_entries(true),
-            ),
             ("epipolar_interpolate@default", E::interpolate_entries()),
-            ("epipolar_resolve@default", E::resolve_entries()),
-            ("epipolar_upscale@default", E::upscale_entries()),
-            ("epipolar_reference@default", E::reference_entries()),
             ("epipolar_apply@default", E::apply_entries()),
         ] {
             checked += check(name, &[(0, entries)]);
+        }
+        for v in volfog_codegen::manifest::variants() {
+            let colored = v.defines.contains(&"VOLFOG_EPIPOLAR_COLORED");
+            let entries = match v.pass.name {
+                "epipolar_march" => {
+                    E::march_entries(v.defines.contains(&"VOLFOG_EPIPOLAR_BRUTE_FORCE"), colored)
+                }
+                "epipolar_resolve" => E::resolve_entries(colored),
+                "epipolar_upscale" => E::upscale_entries(colored),
+                "epipolar_reference" => E::reference_entries(colored),
+                _ => continue,
+            };
+            checked += check(&v.name, &[(0, entries)]);
         }
     }
     checked += check(
