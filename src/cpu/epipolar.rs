@@ -605,18 +605,17 @@ pub fn march_tree(
     sum + Vec3::splat(transmittance(fog, ray, lit_from) - transmittance(fog, ray, 1.0))
 }
 
-/// Lit fraction F (see [`lit_fraction`]) of the view ray through `ndc` from view depth
-/// `depth0` to `depth1` (m) by brute force in `steps` equal steps over `shadow` (side
-/// `frame.shadow_size`); mirror of `volfog::epipolar::epipolar_march_pixel`.
+/// Lit fraction F (see [`lit_fraction`]) of the view ray through `ndc` between the view
+/// depths `(depth0, depth1)` (m) by brute force in `steps` equal steps over `shadow`
+/// (side `frame.shadow_size`), coloured by `colors` when given; mirror of
+/// `volfog::epipolar::epipolar_march_pixel`.
 pub fn march_pixel(
-    shadow: &ShadowLayer,
+    (shadow, colors): (&ShadowLayer, Option<&ColorLayer>),
     frame: &EpipolarFrame,
     fog: &HeightFog,
     ndc: Vec2,
-    depth0: f32,
-    depth1: f32,
+    (depth0, depth1): (f32, f32),
     steps: u32,
-    colors: Option<&ColorLayer>,
 ) -> Vec3 {
     let dir = view_ray(frame.view_from_clip, ndc);
     let ray = EpipolarRay {
@@ -1329,7 +1328,7 @@ mod tests {
                     // march_pixel gives the lit fraction: 1 without shadows.
                     let by_pixel = want
                         * f64::from(
-                            march_pixel(&shadow, frame, &fog, p, depth0, depth1, 64, None).x,
+                            march_pixel((&shadow, None), frame, &fog, p, (depth0, depth1), 64).x,
                         );
                     for (name, got) in [("tree", by_tree), ("steps", by_steps), ("pixel", by_pixel)]
                     {
