@@ -14,7 +14,7 @@
 //     epipolar_resolve at downscale 1, or epipolar_reference)
 
 #import volfog::types::{EpipolarFrame, HeightFog}
-#import volfog::epipolar::{epipolar_fog, epipolar_view_ray}
+#import volfog::epipolar::{epipolar_fog, epipolar_view_ray, epipolar_pixel_ndc}
 #import volfog::froxel::view_from_ndc
 
 @group(0) @binding(0) var<uniform> epipolar_frame: EpipolarFrame;
@@ -24,8 +24,7 @@
 
 @fragment
 fn epipolar_apply_fs(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
-    let uv = frag.xy / epipolar_frame.screen_size;
-    let ndc = vec2<f32>(uv.x * 2.0 - 1.0, 1.0 - uv.y * 2.0);
+    let ndc = epipolar_pixel_ndc(epipolar_frame, frag.xy);
     let depth = textureLoad(scene_depth, vec2<i32>(frag.xy), 0).r;
     let z = abs(view_from_ndc(vec3<f32>(ndc, depth), epipolar_frame.view_from_clip).z);
     let view = epipolar_view_ray(epipolar_frame.view_from_clip, ndc) * min(z, 3.0e37);

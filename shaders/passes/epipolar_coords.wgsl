@@ -11,8 +11,7 @@
 //     screen get (EPIPOLAR_INVALID, EPIPOLAR_INVALID, EPIPOLAR_INVALID_DEPTH, 0).
 
 #import volfog::types::EpipolarFrame
-#import volfog::epipolar::{epipolar_line, epipolar_sample_position, EPIPOLAR_INVALID, EPIPOLAR_INVALID_DEPTH}
-#import volfog::froxel::view_from_ndc
+#import volfog::epipolar::{epipolar_line, epipolar_sample_position, epipolar_view_depth, EPIPOLAR_INVALID, EPIPOLAR_INVALID_DEPTH}
 
 @group(0) @binding(0) var<uniform> epipolar_frame: EpipolarFrame;
 @group(0) @binding(1) var scene_depth: texture_2d<f32>;
@@ -30,8 +29,7 @@ fn epipolar_coords(@builtin(global_invocation_id) id: vec3<u32>) {
         let uv = vec2<f32>(p.x * 0.5 + 0.5, 0.5 - p.y * 0.5);
         let texel = clamp(vec2<i32>(floor(uv * vec2<f32>(size))), vec2<i32>(0), size - 1);
         let depth = textureLoad(scene_depth, texel, 0).r;
-        let view = view_from_ndc(vec3<f32>(p, depth), epipolar_frame.view_from_clip);
-        out = vec4<f32>(p, min(abs(view.z), epipolar_frame.max_depth), 1.0);
+        out = vec4<f32>(p, epipolar_view_depth(epipolar_frame, p, depth), 1.0);
     }
     textureStore(coords, vec2<i32>(id.xy), out);
 }

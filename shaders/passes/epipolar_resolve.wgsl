@@ -22,8 +22,7 @@
 //          colour texture).
 
 #import volfog::types::{EpipolarFrame, HeightFog}
-#import volfog::epipolar::{epipolar_pixel_slice, epipolar_line, epipolar_line_position, epipolar_continuous, epipolar_march_pixel, EPIPOLAR_INVALID}
-#import volfog::froxel::view_from_ndc
+#import volfog::epipolar::{epipolar_pixel_slice, epipolar_line, epipolar_line_position, epipolar_continuous, epipolar_march_pixel, epipolar_pixel_ndc, epipolar_view_depth, EPIPOLAR_INVALID}
 
 @group(0) @binding(0) var<uniform> epipolar_frame: EpipolarFrame;
 @group(0) @binding(1) var<uniform> medium: HeightFog;
@@ -50,10 +49,9 @@ fn epipolar_resolve(@builtin(global_invocation_id) id: vec3<u32>) {
     let position = (vec2<f32>(id.xy) + 0.5) * f;
     let full = vec2<i32>(textureDimensions(scene_depth));
     let texel = clamp(vec2<i32>(position), vec2<i32>(0), full - 1);
-    let uv = position / epipolar_frame.screen_size;
-    let ndc = vec2<f32>(uv.x * 2.0 - 1.0, 1.0 - uv.y * 2.0);
+    let ndc = epipolar_pixel_ndc(epipolar_frame, position);
     let depth = textureLoad(scene_depth, texel, 0).r;
-    let z = min(abs(view_from_ndc(vec3<f32>(ndc, depth), epipolar_frame.view_from_clip).z), epipolar_frame.max_depth);
+    let z = epipolar_view_depth(epipolar_frame, ndc, depth);
 
     let n = i32(epipolar_frame.slices);
     let js = epipolar_pixel_slice(epipolar_frame, ndc) - 0.5;

@@ -19,8 +19,7 @@
 //          colour texture).
 
 #import volfog::types::{EpipolarFrame, HeightFog}
-#import volfog::epipolar::{epipolar_continuous, epipolar_march_pixel}
-#import volfog::froxel::view_from_ndc
+#import volfog::epipolar::{epipolar_continuous, epipolar_march_pixel, epipolar_pixel_ndc, epipolar_view_depth}
 
 @group(0) @binding(0) var<uniform> epipolar_frame: EpipolarFrame;
 @group(0) @binding(1) var<uniform> medium: HeightFog;
@@ -42,10 +41,9 @@ fn epipolar_upscale(@builtin(global_invocation_id) id: vec3<u32>) {
     if id.x >= size.x || id.y >= size.y {
         return;
     }
-    let uv = (vec2<f32>(id.xy) + 0.5) / epipolar_frame.screen_size;
-    let ndc = vec2<f32>(uv.x * 2.0 - 1.0, 1.0 - uv.y * 2.0);
+    let ndc = epipolar_pixel_ndc(epipolar_frame, vec2<f32>(id.xy) + 0.5);
     let depth = textureLoad(scene_depth, vec2<i32>(id.xy), 0).r;
-    let z = min(abs(view_from_ndc(vec3<f32>(ndc, depth), epipolar_frame.view_from_clip).z), epipolar_frame.max_depth);
+    let z = epipolar_view_depth(epipolar_frame, ndc, depth);
     let low_size = vec2<i32>(textureDimensions(low));
     let q = (vec2<f32>(id.xy) + 0.5) / f32(epipolar_frame.downscale) - 0.5;
     let q0 = floor(q);

@@ -285,6 +285,19 @@ fn epipolar_sources(flags: vec4<u32>, k: u32, a: u32, b: u32) -> vec2<u32> {
     return vec2<u32>(left, right);
 }
 
+// Normalised device xy of a position on the full-resolution target (pixels, y down;
+// pixel centres at + 0.5).
+fn epipolar_pixel_ndc(frame: EpipolarFrame, position: vec2<f32>) -> vec2<f32> {
+    let uv = position / frame.screen_size;
+    return vec2<f32>(uv.x * 2.0 - 1.0, 1.0 - uv.y * 2.0);
+}
+
+// View depth (m) of depth-buffer value `depth` at normalised device xy, at most
+// frame.max_depth (sky pixels stop there).
+fn epipolar_view_depth(frame: EpipolarFrame, ndc: vec2<f32>, depth: f32) -> f32 {
+    return min(abs(view_from_ndc(vec3<f32>(ndc, depth), frame.view_from_clip).z), frame.max_depth);
+}
+
 // View-space point at view depth 1 on the ray through normalised device xy.
 fn epipolar_view_ray(view_from_clip: mat4x4<f32>, ndc: vec2<f32>) -> vec3<f32> {
     let p = view_from_ndc(vec3<f32>(ndc, 0.5), view_from_clip);

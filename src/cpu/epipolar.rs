@@ -379,6 +379,22 @@ pub fn sources(flags: [u32; 4], k: u32, a: u32, b: u32) -> UVec2 {
     UVec2::new(left, right)
 }
 
+/// Normalised device xy of a position on the full-resolution target (pixels, y down);
+/// mirror of `volfog::epipolar::epipolar_pixel_ndc`.
+pub fn pixel_ndc(frame: &EpipolarFrame, position: Vec2) -> Vec2 {
+    let uv = position / frame.screen_size;
+    Vec2::new(uv.x * 2.0 - 1.0, 1.0 - uv.y * 2.0)
+}
+
+/// View depth (m) of depth-buffer value `depth` at normalised device xy, at most
+/// `frame.max_depth`; mirror of `volfog::epipolar::epipolar_view_depth`.
+pub fn view_depth(frame: &EpipolarFrame, ndc: Vec2, depth: f32) -> f32 {
+    view_from_ndc(ndc.extend(depth), frame.view_from_clip)
+        .z
+        .abs()
+        .min(frame.max_depth)
+}
+
 /// View-space point at view depth 1 (m) on the ray through normalised device `ndc`;
 /// mirror of `volfog::epipolar::epipolar_view_ray`.
 pub fn view_ray(view_from_clip: Mat4, ndc: Vec2) -> Vec3 {

@@ -589,9 +589,9 @@ fn bad_sampling_and_inputs_are_typed_errors() {
     assert!(shafts.memory_bytes() > 0);
 }
 
-/// Applies `fog` (the plain apply, or the far field with `shafts`) at one view depth
-/// everywhere onto a black and a white target: (in-scatter, transmittance) per pixel.
-fn apply_at_depth(
+/// Applies `fog` (the plain apply, or the far field with `shafts`) over the depth buffer
+/// `depth` onto a black and a white target: (in-scatter, transmittance) per pixel.
+pub(crate) fn apply_over_depth(
     gpu: &Gpu,
     fog: &volfog::pipeline::VolumetricFog,
     depth: &wgpu::Texture,
@@ -716,8 +716,8 @@ fn far_field_continues_the_tail_and_shadows_it() {
             shafts.encode(&mut encoder, EpipolarMode::Tree).unwrap();
             gpu.queue.submit([encoder.finish()]);
             let s = gpu.read_texture_rgba16f(shafts.shaft_texture()).unwrap();
-            let plain = apply_at_depth(gpu, &fog, &depth, None, (w, h));
-            let field = apply_at_depth(gpu, &fog, &depth, Some(&shafts), (w, h));
+            let plain = apply_over_depth(gpu, &fog, &depth, None, (w, h));
+            let field = apply_over_depth(gpu, &fog, &depth, Some(&shafts), (w, h));
             results.push((d, s, plain, field));
         }
         // Continuity across the far plane.
@@ -789,7 +789,7 @@ fn per_pixel_functions_match_the_cpu() {
     use volfog::uniforms::Froxels;
     const KERNEL: &str = r#"
 #import volfog::types::{EpipolarFrame, Froxels, HeightFog}
-#import volfog::epipolar::{epipolar_pixel_slice, epipolar_line, epipolar_line_position, epipolar_fog}
+#import volfog::epipolar::{epipolar_pixel_slice, epipolar_line, epipolar_line_position, epipolar_fog, epipolar_pixel_ndc, epipolar_view_depth}
 #import volfog::apply::fog_tail_shafts
 
 struct Case { frame: EpipolarFrame, froxels: Froxels, fog: HeightFog, point: vec4<f32>, view_pos: vec4<f32> }
@@ -803,7 +803,9 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     let s = epipolar_pixel_slice(c.frame, c.point.xy);
     let slice = min(u32(s), c.frame.slices - 1u);
     let k = epipolar_line_position(epipolar_line(c.frame, slice), c.frame.samples, c.point.xy);
-    output[3u * id.x] = vec4<f32>(s, k, 0.0, 0.0);
+    let position = (c.point.xy * vec2<f32>(0.5, -0.5) + 0.5) * c.frame.screen_size;
+    let depth = epipolar_view_depth(c.frame, c.point.xy, 0.3 + 0.69 * c.point.z);
+    output[3u * id.x] = vec4<f32>(s, k, depth, epipolar_pixel_ndc(c.frame, position).y);
     let fraction = vec3<f32>(c.point.z, c.point.w, 0.5 * (c.point.z + c.point.w));
     output[3u * id.x + 1u] = epipolar_fog(c.frame, c.fog, c.view_pos.xyz, fraction);
     output[3u * id.x + 2u] = fog_tail_shafts(c.froxels, c.fog, c.view_pos.xyz, fraction);
@@ -869,8 +871,10 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
         let s = cpu::pixel_slice(&frame, point);
         let slice = (s as u32).min(frame.slices - 1);
         let k = cpu::line_position(cpu::line(&frame, slice), frame.samples, point);
+        let position = (point * Vec2::new(0.5, -0.5) + Vec2::splat(0.5)) * frame.screen_size;
+        let depth = cpu::view_depth(&frame, point, 0.3 + 0.69 * f0);
         want.push([
-            Vec4::new(s, k, 0.0, 0.0),
+            Vec4::new(s, k, depth, cpu::pixel_ndc(&frame, position).y),
             cpu::fog(&frame, &fog, view_pos, fraction),
             volfog::cpu::apply::fog_tail_shafts(&froxels, &fog, view_pos, fraction),
         ]);
@@ -881,18 +885,25 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
         .unwrap();
     let got: &[Vec4] = bytemuck::cast_slice(&out);
     let (mut slice_err, mut pos_err, mut fog_err, mut tail_err) = (0.0f32, 0.0f32, 0.0f32, 0.0f32);
+    let (mut depth_err, mut ndc_err) = (0.0f32, 0.0f32);
     for (i, w) in want.iter().enumerate() {
         let g = &got[3 * i..3 * i + 3];
         let mut ds = (g[0].x - w[0].x).abs();
         ds = ds.min(base.slices as f32 - ds); // the slice coordinate wraps
         slice_err = slice_err.max(ds);
         pos_err = pos_err.max((g[0].y - w[0].y).abs());
+        depth_err = depth_err.max((g[0].z - w[0].z).abs() / w[0].z);
+        ndc_err = ndc_err.max((g[0].w - w[0].w).abs());
         let rel = |a: Vec4, b: Vec4| ((a - b).abs() / b.abs().max(Vec4::splat(1e-3))).max_element();
         fog_err = fog_err.max(rel(g[1], w[1]));
         tail_err = tail_err.max(rel(g[2], w[2]));
     }
     eprintln!(
-        "{count} cases: pixel slice {slice_err:.2e} slices (bound 1e-3), line position {pos_err:.2e} samples (bound 1e-2), epipolar_fog {fog_err:.2e} relative (bound 1e-4), fog_tail_shafts {tail_err:.2e} (bound 1e-4)"
+        "{count} cases: pixel slice {slice_err:.2e} slices (bound 1e-3), line position {pos_err:.2e} samples (bound 1e-2), epipolar_fog {fog_err:.2e} relative (bound 1e-4), fog_tail_shafts {tail_err:.2e} (bound 1e-4), view depth {depth_err:.2e} relative (bound 1e-5), pixel ndc {ndc_err:.2e} (bound 1e-6)"
+    );
+    assert!(
+        depth_err <= 1e-5 && ndc_err <= 1e-6,
+        "{depth_err} {ndc_err}"
     );
     assert!(
         slice_err <= 1e-3 && pos_err <= 1e-2,

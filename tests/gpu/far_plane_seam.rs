@@ -21,34 +21,7 @@ const H: u32 = 36;
 fn apply_at_depth(gpu: &Gpu, fog: &VolumetricFog, view_depth: f32) -> Vec<Vec4> {
     let clip = projection() * Vec4::new(0.0, 0.0, -view_depth, 1.0);
     let depth = depth_texture(gpu, W, H, &vec![clip.z / clip.w; (W * H) as usize]).unwrap();
-    let depth_view = depth.create_view(&wgpu::TextureViewDescriptor {
-        aspect: wgpu::TextureAspect::DepthOnly,
-        ..Default::default()
-    });
-    let apply = fog
-        .create_apply(&gpu.device, wgpu::TextureFormat::Rgba16Float)
-        .unwrap();
-    let depth_group = apply.depth_bind_group(&gpu.device, &depth_view);
-    let mut images = Vec::new();
-    for base in [0.0f32, 1.0] {
-        let color =
-            gpu.texture_2d_rgba16f("colour", [W, H], &vec![Vec4::splat(base); (W * H) as usize]);
-        let mut encoder = gpu.device.create_command_encoder(&Default::default());
-        fog.record_apply(
-            &mut encoder,
-            &apply,
-            &color.create_view(&Default::default()),
-            &depth_group,
-        )
-        .unwrap();
-        gpu.queue.submit([encoder.finish()]);
-        images.push(gpu.read_texture_rgba16f(&color).unwrap());
-    }
-    images[0]
-        .iter()
-        .zip(&images[1])
-        .map(|(black, white)| black.truncate().extend(white.x - black.x))
-        .collect()
+    crate::epipolar::apply_over_depth(gpu, fog, &depth, None, (W, H))
 }
 
 #[test]
