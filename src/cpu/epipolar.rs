@@ -574,8 +574,8 @@ pub fn march_tree(
     let mut guard = 0u32;
     while ta < stop && k < size && guard < 8 * size {
         guard += 1;
-        // Step 5.1: go to coarser levels while k starts the parent node.
-        while level < top && (k & ((2u32 << level) - 1)) == 0 {
+        // Step 5.1: one level coarser when k starts the parent node.
+        if level < top && (k & ((2u32 << level) - 1)) == 0 {
             level += 1;
         }
         let mut is_lit = false;
