@@ -700,7 +700,7 @@ pub fn phase(frame: &EpipolarFrame, fog: &HeightFog, view_dir: Vec3) -> Vec3 {
 }
 
 /// Fog `(in-scattered radiance rgb, transmittance)` from `frame.start_depth` to the
-/// view-space point `view_pos` (m, at most `frame.max_depth`) with shaft term `shafts`;
+/// view-space point `view_pos` (m, at most `frame.max_depth`) with lit fraction `shafts` (per channel);
 /// mirror of `volfog::epipolar::epipolar_fog`.
 pub fn fog(frame: &EpipolarFrame, fog: &HeightFog, view_pos: Vec3, shafts: Vec3) -> Vec4 {
     let depth = view_pos.z.abs();

@@ -273,7 +273,7 @@ impl ApplyPipeline {
 
 /// A render pass that loads `color` (the lit scene) and stores it, without depth: the
 /// pass fullscreen composites draw into.
-pub(crate) fn composite_pass<'e>(
+pub fn composite_pass<'e>(
     encoder: &'e mut wgpu::CommandEncoder,
     label: &str,
     color: &wgpu::TextureView,

@@ -795,11 +795,24 @@ impl VolumetricFog {
         device: &wgpu::Device,
         format: wgpu::TextureFormat,
     ) -> Result<ApplyPipeline, FogError> {
-        Ok(ApplyPipeline::new(
+        self.create_apply_with(device, format, crate::options::ApplyInput::Depth)
+    }
+
+    /// The fullscreen apply pass reading `input` at group 1 (the forms of
+    /// [`VolumetricFog::create_apply`], [`VolumetricFog::create_apply_resolved`] and
+    /// [`VolumetricFog::create_apply_far_field`]).
+    pub fn create_apply_with(
+        &self,
+        device: &wgpu::Device,
+        format: wgpu::TextureFormat,
+        input: crate::options::ApplyInput,
+    ) -> Result<ApplyPipeline, FogError> {
+        Ok(ApplyPipeline::with_input(
             device,
             &self.fog_layout,
             self.config.apply_filtering,
             format,
+            input,
         )?)
     }
 
@@ -813,17 +826,11 @@ impl VolumetricFog {
         device: &wgpu::Device,
         format: wgpu::TextureFormat,
     ) -> Result<ApplyPipeline, FogError> {
-        Ok(ApplyPipeline::with_input(
-            device,
-            &self.fog_layout,
-            self.config.apply_filtering,
-            format,
-            crate::options::ApplyInput::ResolvedLayout,
-        )?)
+        self.create_apply_with(device, format, crate::options::ApplyInput::ResolvedLayout)
     }
 
     /// The fullscreen apply pass with the far field of epipolar sun shafts: beyond the
-    /// far plane the tail's sun light is shadowed by the shaft term of an
+    /// far plane the tail's sun light is shadowed by the lit fraction of an
     /// [`EpipolarShafts`](crate::pipeline::epipolar::EpipolarShafts) prepared with
     /// `start_depth` = `FogConfig::far`, the frame's tail as its medium and
     /// `max_depth` at least the camera's far plane. Bind its group 1 with
@@ -833,13 +840,7 @@ impl VolumetricFog {
         device: &wgpu::Device,
         format: wgpu::TextureFormat,
     ) -> Result<ApplyPipeline, FogError> {
-        Ok(ApplyPipeline::with_input(
-            device,
-            &self.fog_layout,
-            self.config.apply_filtering,
-            format,
-            crate::options::ApplyInput::FarField,
-        )?)
+        self.create_apply_with(device, format, crate::options::ApplyInput::FarField)
     }
 
     fn check_apply(&self, apply: &ApplyPipeline) -> Result<(), FogError> {
