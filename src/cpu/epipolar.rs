@@ -814,33 +814,9 @@ pub fn coordinates(frame: &EpipolarFrame, view_depth: impl Fn(Vec2) -> f32) -> V
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::cpu::TestRng as Rng;
     use crate::cpu::height_fog::height_fog;
     use crate::uniforms::{EpipolarSampling, EpipolarView};
-
-    /// A small deterministic generator (splitmix64) for test data.
-    struct Rng(u64);
-
-    impl Rng {
-        fn next(&mut self) -> u64 {
-            self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-            let mut z = self.0;
-            z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-            z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-            z ^ (z >> 31)
-        }
-        /// Uniform in [0, 1).
-        fn unit(&mut self) -> f32 {
-            (self.next() >> 40) as f32 / (1u64 << 24) as f32
-        }
-        /// Uniform in [lo, hi).
-        fn range(&mut self, lo: f32, hi: f32) -> f32 {
-            lo + (hi - lo) * self.unit()
-        }
-        /// Uniform integer in lo..=hi.
-        fn int(&mut self, lo: u32, hi: u32) -> u32 {
-            lo + (self.next() % u64::from(hi - lo + 1)) as u32
-        }
-    }
 
     /// Distance between two slice coordinates on a circle of circumference `n`.
     fn circular(a: f64, b: f64, n: f64) -> f64 {
