@@ -189,6 +189,11 @@ pub struct EsmOptions {
     /// Box blur radius (`VOLFOG_ESM_BLUR_RADIUS`), see
     /// [`limits::ESM_BLUR_RADIUS`](crate::limits::ESM_BLUR_RADIUS).
     pub blur_radius: u32,
+    /// The shadow map holds reversed depth, 1 at the light's near plane and 0 at its
+    /// far plane, as reverse-Z renderers (Bevy among them) draw it
+    /// (`VOLFOG_ESM_REVERSED_Z`): the downsample reads `1 - d`. The cascades'
+    /// `light_from_world` still map to standard depth (0 at the near plane).
+    pub reversed_z: bool,
 }
 
 impl Default for EsmOptions {
@@ -196,6 +201,7 @@ impl Default for EsmOptions {
         Self {
             log_space: false,
             blur_radius: manifest::ESM_BLUR_RADIUS.default,
+            reversed_z: false,
         }
     }
 }
@@ -203,6 +209,14 @@ impl Default for EsmOptions {
 impl EsmOptions {
     /// The defines of the downsample variant.
     pub fn downsample_defines(&self) -> Vec<String> {
+        let mut d = self.filter_defines();
+        if self.reversed_z {
+            d.push("VOLFOG_ESM_REVERSED_Z".to_string());
+        }
+        d
+    }
+
+    fn filter_defines(&self) -> Vec<String> {
         if self.log_space {
             vec!["VOLFOG_ESM_LOG_SPACE".to_string()]
         } else {
@@ -212,7 +226,7 @@ impl EsmOptions {
 
     /// The defines of the blur variant.
     pub fn blur_defines(&self) -> Vec<String> {
-        let mut d = self.downsample_defines();
+        let mut d = self.filter_defines();
         if self.blur_radius != manifest::ESM_BLUR_RADIUS.default {
             d.push(format!(
                 "{}={}",

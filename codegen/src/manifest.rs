@@ -304,7 +304,7 @@ pub const PASSES: &[PassSource] = &[
     ),
     pass!(
         "esm_downsample",
-        axes: &[Axis::Flag("VOLFOG_ESM_LOG_SPACE")],
+        axes: &[Axis::Flag("VOLFOG_ESM_LOG_SPACE"), Axis::Flag("VOLFOG_ESM_REVERSED_Z")],
         values: &[],
         usage: "Dispatch ceil(esm_width / 8) x ceil(esm_height / 8) x cascades workgroups; \
                 the shadow map is 4x the ESM size, one array layer per cascade. The sampler \

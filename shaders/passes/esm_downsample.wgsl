@@ -10,6 +10,9 @@
 //   2  sampler, non-filtering (nearest), clamp to edge: used by textureGather
 //   3  texture_storage_2d_array<r32float, write>: the ESM
 // Defines: VOLFOG_ESM_LOG_SPACE (see volfog::esm).
+//          VOLFOG_ESM_REVERSED_Z: the shadow map holds reversed depth (1 at the light's
+//          near plane, as reverse-Z renderers draw it); each texel d is read as 1 - d,
+//          the standard depth that ShadowCascades.light_from_world gives receivers.
 
 #import volfog::types::ShadowCascades
 #import volfog::esm::{esm_encode, esm_mean4, esm_merge}
@@ -35,10 +38,17 @@ fn esm_downsample(@builtin(global_invocation_id) id: vec3<u32>) {
     // (0,2), (2,2) cover the whole block.
     let uv = (vec2<f32>(id.xy * 4u) + 1.0) / in_size;
     let layer = id.z;
+#ifdef VOLFOG_ESM_REVERSED_Z
+    let a = esm_mean4(encode4(1.0 - textureGather(0, shadow_map, gather_sampler, uv, layer, vec2<i32>(0, 0))));
+    let b = esm_mean4(encode4(1.0 - textureGather(0, shadow_map, gather_sampler, uv, layer, vec2<i32>(2, 0))));
+    let c = esm_mean4(encode4(1.0 - textureGather(0, shadow_map, gather_sampler, uv, layer, vec2<i32>(0, 2))));
+    let d = esm_mean4(encode4(1.0 - textureGather(0, shadow_map, gather_sampler, uv, layer, vec2<i32>(2, 2))));
+#else
     let a = esm_mean4(encode4(textureGather(0, shadow_map, gather_sampler, uv, layer, vec2<i32>(0, 0))));
     let b = esm_mean4(encode4(textureGather(0, shadow_map, gather_sampler, uv, layer, vec2<i32>(2, 0))));
     let c = esm_mean4(encode4(textureGather(0, shadow_map, gather_sampler, uv, layer, vec2<i32>(0, 2))));
     let d = esm_mean4(encode4(textureGather(0, shadow_map, gather_sampler, uv, layer, vec2<i32>(2, 2))));
+#endif
     let value = esm_merge(esm_merge(a, 4.0, b, 4.0), 8.0, esm_merge(c, 4.0, d, 4.0), 8.0);
     textureStore(esm_out, id.xy, layer, vec4<f32>(value, 0.0, 0.0, 0.0));
 }

@@ -481,24 +481,20 @@ pub fn depth_array_texture(
 }
 
 /// Runs the ESM passes (downsample, blur x, blur y) over a cascaded shadow map given
-/// as depth layers of `4 * size` texels per side, and returns the filtered ESM layers.
+/// as depth layers of `4 * size` texels per side (stored as given: reversed depth when
+/// `options.reversed_z`), and returns the filtered ESM layers.
 pub fn run_esm(
     gpu: &Gpu,
-    log_space: bool,
-    blur_radius: u32,
+    options: &EsmOptions,
     exponent: f32,
     depth_layers: &[volfog::cpu::esm::Layer],
 ) -> Result<Vec<volfog::cpu::esm::Layer>, GpuError> {
     use volfog::pipeline::esm::EsmPasses;
-    let options = EsmOptions {
-        log_space,
-        blur_radius,
-    };
     let layers = depth_layers.len() as u32;
     let full = depth_layers[0].width;
     let size = full / 4;
     let passes =
-        EsmPasses::new(&gpu.device, &options).map_err(|e| GpuError::Operation(e.to_string()))?;
+        EsmPasses::new(&gpu.device, options).map_err(|e| GpuError::Operation(e.to_string()))?;
     let slices: Vec<&[f32]> = depth_layers.iter().map(|l| l.texels.as_slice()).collect();
     let shadow = depth_array_texture(gpu, full, full, &slices)?;
     let shadow_view = shadow.create_view(&wgpu::TextureViewDescriptor {

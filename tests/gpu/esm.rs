@@ -8,6 +8,7 @@ use common::{compose, gpu};
 use glam::Vec2;
 use naga_oil::compose::ShaderDefValue;
 use volfog::cpu::esm::{self, Layer};
+use volfog::options::EsmOptions;
 use volfog_testkit::selfcheck::run_esm;
 
 fn layer(size: u32, f: impl Fn(u32, u32) -> f32) -> Layer {
@@ -15,6 +16,14 @@ fn layer(size: u32, f: impl Fn(u32, u32) -> f32) -> Layer {
         width: size,
         height: size,
         texels: (0..size * size).map(|i| f(i % size, i / size)).collect(),
+    }
+}
+
+fn options(log_space: bool, blur_radius: u32, reversed_z: bool) -> EsmOptions {
+    EsmOptions {
+        log_space,
+        blur_radius,
+        reversed_z,
     }
 }
 
@@ -48,7 +57,13 @@ fn filtered_esm_matches_cpu_box_filter() {
         (true, 40.0, 5),
         (true, 300.0, 5),
     ] {
-        let gpu_layers = run_esm(gpu, log_space, radius as u32, exponent, &depths).unwrap();
+        let gpu_layers = run_esm(
+            gpu,
+            &options(log_space, radius as u32, false),
+            exponent,
+            &depths,
+        )
+        .unwrap();
         let mut worst = 0.0f32;
         for (g, d) in gpu_layers.iter().zip(&depths) {
             let want = cpu_esm(d, exponent, log_space, radius);
@@ -72,6 +87,41 @@ fn filtered_esm_matches_cpu_box_filter() {
             } else {
                 "relative"
             }
+        );
+        assert!(worst <= 1e-4, "{worst}");
+    }
+}
+
+/// A reverse-Z shadow map (`VOLFOG_ESM_REVERSED_Z`, texels 1 - d) filters to the ESM of
+/// the standard depths d: against the CPU mirror run on d, in linear and log space.
+#[test]
+fn reversed_z_shadow_map_matches_standard_depth() {
+    let gpu = gpu();
+    let depths: Vec<Layer> = (0..2).map(|l| bumpy(128, l)).collect();
+    let reversed: Vec<Layer> = depths
+        .iter()
+        .map(|d| Layer {
+            texels: d.texels.iter().map(|t| 1.0 - t).collect(),
+            ..d.clone()
+        })
+        .collect();
+    for log_space in [false, true] {
+        let exponent = 40.0;
+        let gpu_layers = run_esm(gpu, &options(log_space, 3, true), exponent, &reversed).unwrap();
+        let mut worst = 0.0f32;
+        for (g, d) in gpu_layers.iter().zip(&depths) {
+            let want = cpu_esm(d, exponent, log_space, 3);
+            for (a, b) in g.texels.iter().zip(&want.texels) {
+                let err = if log_space {
+                    (a - b).abs()
+                } else {
+                    (a - b).abs() / b.abs()
+                };
+                worst = worst.max(err);
+            }
+        }
+        eprintln!(
+            "reversed-Z ESM (log space {log_space}): worst error vs CPU on 1 - texel {worst:e} (bound 1e-4)"
         );
         assert!(worst <= 1e-4, "{worst}");
     }
@@ -158,7 +208,13 @@ fn plane_occluder_shadows_behind_and_lights_in_front() {
         (true, 200.0),
         (true, 600.0),
     ] {
-        let filtered = &run_esm(gpu, log_space, 5, c, std::slice::from_ref(&depth)).unwrap()[0];
+        let filtered = &run_esm(
+            gpu,
+            &options(log_space, 5, false),
+            c,
+            std::slice::from_ref(&depth),
+        )
+        .unwrap()[0];
         // Receivers well inside each half (away from the blurred edge): the ESM is 64
         // texels wide, the blur spans 11 texels plus the bilinear footprint.
         let mut queries = Vec::new();

@@ -28,6 +28,9 @@ pub struct FogConfig {
     pub esm_log_space: bool,
     /// Box blur radius (taps = 2 radius + 1).
     pub esm_blur_radius: u32,
+    /// The shadow map holds reversed depth (1 nearest the light), as reverse-Z
+    /// renderers draw it; see [`EsmOptions::reversed_z`].
+    pub shadow_reversed_z: bool,
     /// Capacity of the point/spot light buffer.
     pub max_lights: u32,
     /// Capacity of the local volume buffer.
@@ -86,6 +89,7 @@ impl Default for FogConfig {
             esm_exponent: 40.0,
             esm_log_space: esm.log_space,
             esm_blur_radius: esm.blur_radius,
+            shadow_reversed_z: esm.reversed_z,
             max_lights: limits::MAX_LIGHTS,
             max_local_volumes: 16,
             jitter: inject.jitter,
@@ -157,6 +161,7 @@ impl FogConfig {
         EsmOptions {
             log_space: self.esm_log_space,
             blur_radius: self.esm_blur_radius,
+            reversed_z: self.shadow_reversed_z,
         }
     }
 
