@@ -22,4 +22,6 @@ pub mod pipeline;
 pub mod shaders;
 pub mod uniforms;
 
+/// The glam version of volfog's public types (vectors and matrices).
+pub use glam;
 pub use volfog_codegen;

@@ -225,6 +225,8 @@ pub struct VolumetricFog {
     shadow_map: Option<ShadowMap>,
     fog_layout: wgpu::BindGroupLayout,
     fog_group: wgpu::BindGroup,
+    integrated_view: wgpu::TextureView,
+    fog_sampler: wgpu::Sampler,
     timestamps: Option<TimestampPairs>,
     /// Frames prepared so far; the prepared frame is `frames - 1`.
     frames: u32,
@@ -429,6 +431,8 @@ impl VolumetricFog {
             shadow_map: None,
             fog_layout,
             fog_group,
+            integrated_view,
+            fog_sampler,
             timestamps,
             frames: 0,
             shadows_enabled: false,
@@ -931,6 +935,20 @@ impl VolumetricFog {
     /// The bind group matching [`VolumetricFog::fog_bind_group_layout`].
     pub fn fog_bind_group(&self) -> &wgpu::BindGroup {
         &self.fog_group
+    }
+
+    /// The resources of the fog group, for a group of the caller's own that holds
+    /// them (a material's group in an engine whose bind groups are all taken, at the
+    /// bindings of `volfog::bindings`). They stay the same until the fog is
+    /// reconfigured.
+    pub fn fog_resources(&self) -> FogResources<'_> {
+        FogResources {
+            froxels: &self.buffers.froxels,
+            integrated: &self.integrated_view,
+            tail: &self.buffers.tail,
+            view: &self.buffers.view,
+            sampler: &self.fog_sampler,
+        }
     }
 
     /// GPU memory of every texture and buffer this object owns (the user's shadow map
