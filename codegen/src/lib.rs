@@ -2,7 +2,7 @@
 //! naga_oil under define sets, validation with naga, reflection of bindings and
 //! struct layouts, and (feature `translate`) compaction and translation of every entry
 //! point to WGSL, SPIR-V, GLSL, HLSL and MSL plus the export of a folder with its
-//! binding manifest.
+//! binding manifest; and the same modules as a WESL package ([`wesl`]) for Bevy.
 //!
 //! The `volfog` library uses it as a build dependency (every variant is composed and
 //! validated when the library builds, so a shader error fails `cargo build`) and at run
@@ -31,6 +31,7 @@ mod rewrite;
 pub mod snippets;
 #[cfg(feature = "translate")]
 pub mod translate;
+pub mod wesl;
 
 use std::fmt;
 
@@ -184,4 +185,14 @@ pub enum CodegenError {
     /// A define is not known to the pass, or its value is out of range.
     #[error("{0}")]
     Define(String),
+    /// A module uses a naga_oil construct that the WESL translation does not handle.
+    #[error("{file}:{line}: cannot translate to WESL: {message}")]
+    Wesl {
+        /// The module file.
+        file: String,
+        /// 1-based line of the construct.
+        line: usize,
+        /// What is wrong.
+        message: String,
+    },
 }
