@@ -2,6 +2,7 @@
 //! packages exist (installing them with apt-get when running as root), build the
 //! independent compilers the tests use, then run the job.
 
+mod bevy;
 mod system;
 mod tools;
 
@@ -15,7 +16,7 @@ fn usage() -> ! {
         "usage: cargo xtask demo [--out DIR]   export every shader target, run the GPU self-check, render the demo to DIR/demo"
     );
     eprintln!(
-        "       cargo xtask test [ARGS...]      run the whole test suite (ARGS go to cargo test)"
+        "       cargo xtask test [ARGS...]      run the whole test suite, the Bevy plugin's included (ARGS go to cargo test)"
     );
     eprintln!(
         "       cargo xtask tools               install and build only what the test suite needs (target/tools)"
@@ -100,6 +101,15 @@ fn main() {
                 .env("VOLFOG_TOOLS_DIR", tools)
                 .env("INSTA_UPDATE", "no")
                 .env("CI", "true"));
+            // The Bevy plugin, its WESL package and its example scene.
+            let channel = bevy::channel();
+            bevy::ensure_toolchain(&channel);
+            let args: Vec<&str> = rest.iter().map(String::as_str).collect();
+            run(gpu_env(&mut bevy::cargo(
+                &channel,
+                &[&["test"], args.as_slice()].concat(),
+            ))
+            .env("CI", "true"));
         }
         _ => usage(),
     }

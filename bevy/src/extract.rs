@@ -1,0 +1,406 @@
+//! Extraction: each [`FroxelFog`] camera's settings, the lights and the local volumes
+//! of the main world become one [`ExtractedFroxelFog`] on the camera's render entity,
+//! in volfog's own types and units, checked.
+//!
+//! Units: Bevy's lights are photometric and scaled by the camera's exposure in its
+//! shaders; the fog takes the same light scaled by the same exposure. A directional
+//! light's colour is `color * illuminance` (lux); a point or spot light's intensity at
+//! 1 m is `color * intensity / 4 pi` (lumens to candela), as Bevy's PBR shader lights
+//! surfaces; the ambient radiance is `color * brightness`.
+
+use std::collections::HashSet;
+
+use bevy::camera::{Camera, Exposure};
+use bevy::light::{
+    CascadeShadowConfig, Cascades, DirectionalLight, DirectionalLightShadowMap, GlobalAmbientLight,
+    PointLight, SpotLight,
+};
+use bevy::prelude::*;
+use bevy::render::Extract;
+use bevy::render::sync_world::RenderEntity;
+use bevy::render::view::Msaa;
+use volfog::cpu::ambient::AmbientSh;
+use volfog::glam as vg;
+use volfog::limits::{self, InvalidValue, check};
+use volfog::pipeline::FogConfig;
+use volfog::uniforms::{FogLight, FogMedium, HeightFog, LocalVolume, ShadowCascades, VolumeShape};
+
+use crate::settings::{FogVolumeShape, FroxelFog, FroxelFogVolume};
+
+/// Screen pixels per froxel side that [`FroxelFog::tile_size`] accepts.
+pub const TILE_SIZE: limits::Range<u32> = limits::Range::new(1, 256, "pixels");
+
+/// Local volumes a camera's fog holds (the first ones found).
+pub const MAX_VOLUMES: u32 = 64;
+
+/// One camera's fog for this frame, in volfog's types: what the render world runs.
+#[derive(Component, Clone, Debug)]
+pub struct ExtractedFroxelFog {
+    /// The pipeline's configuration (rebuilt when it changes).
+    pub config: FogConfig,
+    /// World -> view transform.
+    pub view_from_world: vg::Mat4,
+    /// The camera's projection (view -> clip).
+    pub clip_from_view: vg::Mat4,
+    /// Seconds since start.
+    pub time: f32,
+    /// The medium.
+    pub medium: FogMedium,
+    /// The sun (no light: black).
+    pub sun: volfog::uniforms::DirectionalLight,
+    /// Constant ambient radiance as SH.
+    pub ambient: AmbientSh,
+    /// Point and spot lights.
+    pub lights: Vec<FogLight>,
+    /// Local volumes.
+    pub volumes: Vec<LocalVolume>,
+    /// The sun's cascades (count 0 without a shadowed sun).
+    pub cascades: ShadowCascades,
+    /// The far tail (world space), or none.
+    pub tail: HeightFog,
+}
+
+impl ExtractedFroxelFog {
+    /// The frame inputs for [`volfog::pipeline::VolumetricFog::prepare`].
+    pub fn inputs(&self) -> volfog::pipeline::FrameInputs<'_> {
+        volfog::pipeline::FrameInputs {
+            medium: self.medium,
+            sun: self.sun,
+            ambient: self.ambient,
+            lights: &self.lights,
+            local_volumes: &self.volumes,
+            cascades: self.cascades,
+            tail: self.tail,
+            ..volfog::pipeline::FrameInputs::new(
+                self.view_from_world,
+                self.clip_from_view,
+                self.time,
+            )
+        }
+    }
+}
+
+/// Bevy's glam to volfog's glam (the versions differ).
+pub(crate) fn mat4(m: Mat4) -> vg::Mat4 {
+    vg::Mat4::from_cols_array(&m.to_cols_array())
+}
+
+pub(crate) fn vec3(v: Vec3) -> vg::Vec3 {
+    vg::Vec3::from_array(v.to_array())
+}
+
+fn rgb(c: LinearRgba) -> vg::Vec3 {
+    vg::Vec3::new(c.red, c.green, c.blue)
+}
+
+/// Maps Bevy's reverse-Z cascade depth (1 at the light's near plane) to standard depth
+/// (0 there): z' = w - z.
+const STANDARD_FROM_REVERSED_Z: vg::Mat4 = vg::Mat4::from_cols(
+    vg::Vec4::X,
+    vg::Vec4::Y,
+    vg::Vec4::new(0.0, 0.0, -1.0, 0.0),
+    vg::Vec4::new(0.0, 0.0, 1.0, 1.0),
+);
+
+/// A fog camera as the extraction reads it.
+type FogCameraItems = (
+    Entity,
+    RenderEntity,
+    &'static Camera,
+    &'static FroxelFog,
+    &'static GlobalTransform,
+    Option<&'static Exposure>,
+    Option<&'static Msaa>,
+);
+
+/// Cameras without fog (their render entity loses any fog of an earlier frame).
+type OtherCameras = (With<Camera>, Without<FroxelFog>);
+
+/// The lights as the extraction reads them.
+type SunQuery<'w, 's> = Query<
+    'w,
+    's,
+    (
+        Entity,
+        &'static DirectionalLight,
+        &'static GlobalTransform,
+        Option<&'static Cascades>,
+        Option<&'static CascadeShadowConfig>,
+    ),
+>;
+
+/// Copies every [`FroxelFog`] camera's fog into the render world, or warns once and
+/// leaves the fog off for a camera whose settings are out of range.
+#[allow(clippy::too_many_arguments)]
+pub fn extract_froxel_fog(
+    mut commands: Commands,
+    cameras: Extract<Query<FogCameraItems>>,
+    others: Extract<Query<RenderEntity, OtherCameras>>,
+    suns: Extract<SunQuery>,
+    points: Extract<Query<(&PointLight, &GlobalTransform, &ViewVisibility)>>,
+    spots: Extract<Query<(&SpotLight, &GlobalTransform, &ViewVisibility)>>,
+    volumes: Extract<Query<(&FroxelFogVolume, &GlobalTransform)>>,
+    ambient: Extract<Option<Res<GlobalAmbientLight>>>,
+    shadow_map: Extract<Res<DirectionalLightShadowMap>>,
+    time: Extract<Res<Time>>,
+    mut warned: Local<HashSet<Entity>>,
+) {
+    for render in &others {
+        commands.entity(render).remove::<ExtractedFroxelFog>();
+    }
+    for (entity, render, camera, fog, transform, exposure, msaa) in &cameras {
+        let scene = Scene {
+            camera,
+            entity,
+            transform,
+            exposure: exposure.copied().unwrap_or_default().exposure(),
+            msaa: msaa.copied().unwrap_or_default(),
+            ambient: ambient.as_deref(),
+            shadow_map_size: shadow_map.size as u32,
+            time: time.elapsed_secs_wrapped(),
+        };
+        let lights = collect_lights(&points, &spots, scene.exposure, fog.light_scattering);
+        let local: Vec<(FroxelFogVolume, Mat4)> = volumes
+            .iter()
+            .map(|(v, t)| (v.clone(), t.to_matrix()))
+            .collect();
+        match extracted(fog, &scene, suns.iter(), lights, &local) {
+            Ok(extracted) => {
+                warned.remove(&entity);
+                commands.entity(render).insert(extracted);
+            }
+            Err(error) => {
+                if warned.insert(entity) {
+                    warn!("volfog: camera {entity}: {error}; the fog is off for this camera");
+                }
+                commands.entity(render).remove::<ExtractedFroxelFog>();
+            }
+        }
+    }
+}
+
+/// What one camera's fog depends on besides its settings.
+struct Scene<'a> {
+    camera: &'a Camera,
+    entity: Entity,
+    transform: &'a GlobalTransform,
+    exposure: f32,
+    msaa: Msaa,
+    ambient: Option<&'a GlobalAmbientLight>,
+    shadow_map_size: u32,
+    time: f32,
+}
+
+fn collect_lights(
+    points: &Query<(&PointLight, &GlobalTransform, &ViewVisibility)>,
+    spots: &Query<(&SpotLight, &GlobalTransform, &ViewVisibility)>,
+    exposure: f32,
+    scattering: f32,
+) -> Vec<FogLight> {
+    let candela = exposure / (4.0 * std::f32::consts::PI);
+    let mut lights = Vec::new();
+    for (light, transform, _) in points.iter() {
+        let color = rgb(light.color.to_linear()) * (light.intensity * candela);
+        lights.push(FogLight {
+            fog_intensity: scattering,
+            radius: light.radius.max(0.01),
+            ..FogLight::point(vec3(transform.translation()), color, light.range)
+        });
+    }
+    for (light, transform, _) in spots.iter() {
+        let color = rgb(light.color.to_linear()) * (light.intensity * candela);
+        lights.push(FogLight {
+            fog_intensity: scattering,
+            radius: light.radius.max(0.01),
+            ..FogLight::spot(
+                vec3(transform.translation()),
+                vec3(*transform.forward()),
+                color,
+                light.range,
+                light.inner_angle,
+                light.outer_angle,
+            )
+        });
+    }
+    lights.truncate(limits::MAX_LIGHTS as usize);
+    lights
+}
+
+/// Builds one camera's fog, or the first value out of range.
+fn extracted<'a>(
+    fog: &FroxelFog,
+    scene: &Scene<'_>,
+    suns: impl Iterator<
+        Item = (
+            Entity,
+            &'a DirectionalLight,
+            &'a GlobalTransform,
+            Option<&'a Cascades>,
+            Option<&'a CascadeShadowConfig>,
+        ),
+    >,
+    lights: Vec<FogLight>,
+    volumes: &[(FroxelFogVolume, Mat4)],
+) -> Result<ExtractedFroxelFog, InvalidValue> {
+    check(
+        scene.msaa == Msaa::Off,
+        "Msaa",
+        scene.msaa,
+        "Msaa::Off on a FroxelFog camera (the fog reads the single-sampled depth)",
+    )?;
+    TILE_SIZE.check("FroxelFog.tile_size", fog.tile_size)?;
+    let viewport = scene.camera.physical_viewport_size().unwrap_or(UVec2::ONE);
+    let grid = (viewport + (fog.tile_size - 1)) / fog.tile_size;
+    let medium = FogMedium {
+        albedo: rgb(fog.medium.albedo),
+        density: fog.medium.density,
+        height_falloff: fog.medium.height_falloff,
+        base_height: fog.medium.base_height,
+        phase_g: fog.medium.phase_g,
+        noise_strength: fog.medium.noise_strength,
+        noise_scale: fog.medium.noise_scale,
+        wind: vec3(fog.medium.wind),
+        ..FogMedium::default()
+    };
+    medium.validate().map_err(|e| renamed(e, fog))?;
+    limits::FOG_RADIANCE.check("FroxelFog.sun_scattering", fog.sun_scattering)?;
+    limits::FOG_RADIANCE.check("FroxelFog.light_scattering", fog.light_scattering)?;
+    limits::FOG_RADIANCE.check("FroxelFog.ambient_scattering", fog.ambient_scattering)?;
+
+    // The sun: the first directional light, with its cascades for this camera when it
+    // casts shadows.
+    let mut sun = volfog::uniforms::DirectionalLight {
+        color: vg::Vec3::ZERO,
+        fog_intensity: 0.0,
+        ..Default::default()
+    };
+    let mut cascades = ShadowCascades {
+        exponent: fog.esm_exponent,
+        ..Default::default()
+    };
+    let mut suns: Vec<_> = suns.collect();
+    suns.sort_by_key(|(entity, light, ..)| (!light.shadow_maps_enabled, *entity));
+    if let Some((_, light, transform, light_cascades, config)) = suns.first() {
+        sun.direction = vec3(-*transform.forward());
+        sun.color = rgb(light.color.to_linear()) * (light.illuminance * scene.exposure);
+        sun.fog_intensity = fog.sun_scattering;
+        if light.shadow_maps_enabled
+            && let (Some(light_cascades), Some(config)) = (light_cascades, config)
+            && let Some(list) = light_cascades.cascades.get(&scene.entity)
+        {
+            let count = list
+                .len()
+                .min(limits::MAX_CASCADES)
+                .min(config.bounds.len());
+            for (i, cascade) in list.iter().take(count).enumerate() {
+                cascades.light_from_world[i] =
+                    STANDARD_FROM_REVERSED_Z * mat4(cascade.clip_from_world);
+            }
+            let mut splits = [0.0f32; 4];
+            for (i, bound) in config.bounds.iter().take(count).enumerate() {
+                splits[i] = *bound;
+            }
+            cascades.splits = vg::Vec4::from_array(splits);
+            cascades.count = count as u32;
+        }
+    }
+    let ambient_radiance = scene
+        .ambient
+        .map(|a| rgb(a.color.to_linear()) * (a.brightness * scene.exposure))
+        .unwrap_or(vg::Vec3::ZERO);
+    let ambient = AmbientSh::constant(ambient_radiance * fog.ambient_scattering);
+    let tail = if fog.tail {
+        let albedo = medium.albedo;
+        HeightFog::from_medium(&medium, albedo * ambient_radiance * fog.ambient_scattering)
+            .with_sun(
+                sun.direction.normalize(),
+                albedo * sun.color * sun.fog_intensity,
+                medium.phase_g.clamp(-0.999, 0.999),
+            )?
+    } else {
+        HeightFog::none()
+    };
+    let volumes = volumes
+        .iter()
+        .map(|(v, world_from_entity)| {
+            // The entity's unit shape spans -0.5..0.5; volfog's spans -1..1.
+            let world_from_local =
+                mat4(*world_from_entity) * vg::Mat4::from_scale(vg::Vec3::splat(0.5));
+            let shape = match v.shape {
+                FogVolumeShape::Box => VolumeShape::Box,
+                FogVolumeShape::Ellipsoid => VolumeShape::Ellipsoid,
+            };
+            LocalVolume::new(world_from_local, shape, v.density, v.edge)
+        })
+        .collect::<Result<Vec<_>, _>>()?;
+    check(
+        volumes.len() <= MAX_VOLUMES as usize,
+        "FroxelFogVolume",
+        volumes.len(),
+        format!("at most {MAX_VOLUMES} volumes"),
+    )?;
+    let config = FogConfig {
+        volume_size: vg::UVec3::new(grid.x, grid.y, fog.slices),
+        near: fog.near,
+        far: fog.far,
+        slice_curve: fog.slice_curve,
+        esm_resolution: (scene.shadow_map_size / 4).max(4),
+        cascades: cascades.count.max(1),
+        esm_exponent: fog.esm_exponent,
+        // Bevy fits each cascade's depth range to its slice of the view, tens of
+        // metres deep: sharp shadows then need exponents beyond linear ESM's 88.
+        esm_log_space: true,
+        shadow_reversed_z: true,
+        max_lights: limits::MAX_LIGHTS,
+        max_local_volumes: MAX_VOLUMES,
+        jitter: fog.temporal,
+        temporal: fog.temporal,
+        history_weight: fog.history_weight,
+        ..FogConfig::default()
+    };
+    config.validate().map_err(|e| renamed(e, fog))?;
+    let extracted = ExtractedFroxelFog {
+        config,
+        view_from_world: mat4(scene.transform.to_matrix().inverse()),
+        clip_from_view: mat4(scene.camera.clip_from_view()),
+        time: scene.time,
+        medium,
+        sun,
+        ambient,
+        lights,
+        volumes,
+        cascades,
+        tail,
+    };
+    extracted.inputs().validate(&extracted.config)?;
+    Ok(extracted)
+}
+
+/// Names the camera component's field where the configuration's field came from it.
+fn renamed(mut e: InvalidValue, fog: &FroxelFog) -> InvalidValue {
+    e.field = match e.field {
+        "FogConfig.volume_size" => {
+            e.expected = format!(
+                "{} (the grid is the viewport / FroxelFog.tile_size = {} by FroxelFog.slices)",
+                e.expected, fog.tile_size
+            )
+            .into();
+            "FroxelFog.slices"
+        }
+        "FogConfig.near" => "FroxelFog.near",
+        "FogConfig.far" => "FroxelFog.far",
+        "FogConfig.slice_curve" => "FroxelFog.slice_curve",
+        "FogConfig.esm_exponent" => "FroxelFog.esm_exponent",
+        "FogConfig.history_weight" => "FroxelFog.history_weight",
+        "FogMedium.albedo" => "FroxelFog.medium.albedo",
+        "FogMedium.density" => "FroxelFog.medium.density",
+        "FogMedium.height_falloff" => "FroxelFog.medium.height_falloff",
+        "FogMedium.wind" => "FroxelFog.medium.wind",
+        "FogMedium.base_height" => "FroxelFog.medium.base_height",
+        "FogMedium.noise_strength" => "FroxelFog.medium.noise_strength",
+        "FogMedium.noise_scale" => "FroxelFog.medium.noise_scale",
+        "FogMedium.phase_g" => "FroxelFog.medium.phase_g",
+        other => other,
+    };
+    e
+}

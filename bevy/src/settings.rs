@@ -1,0 +1,145 @@
+//! The components a Bevy app puts on its entities: [`FroxelFog`] on a camera and
+//! [`FroxelFogVolume`] on local fog volumes.
+
+use bevy::prelude::*;
+
+/// Froxel volumetric fog for a 3D camera: add it next to `Camera3d`. The fog is
+/// computed in a volume of froxels (screen tiles x depth slices) from the camera's
+/// near fog plane to `far`, lit by the first shadow-casting `DirectionalLight` (through
+/// its shadow cascades), every `PointLight` and `SpotLight` and the global ambient
+/// light, and applied to the opaque scene before the transparent pass and
+/// tonemapping. Beyond `far` an analytic height-fog tail continues it.
+///
+/// Values out of range switch the fog off for this camera with one warning naming
+/// the field and its range. The camera must render without MSAA (`Msaa::Off`).
+#[derive(Component, Clone, Debug, PartialEq)]
+pub struct FroxelFog {
+    /// Screen pixels per froxel side: the grid is `ceil(viewport / tile_size)`
+    /// froxels across, and follows the viewport when it is resized. 4..=64.
+    pub tile_size: u32,
+    /// Depth slices, 8..=256 (with `tile_size`, see `volfog::limits`).
+    pub slices: u32,
+    /// View depth (m) where the volume starts, > 0.
+    pub near: f32,
+    /// View depth (m) where the volume ends; the analytic tail continues beyond it.
+    pub far: f32,
+    /// Slice distribution: 0 linear in depth, larger values put more slices near the
+    /// camera (ln(far / near) is exponential).
+    pub slice_curve: f32,
+    /// The medium.
+    pub medium: FogMediumSettings,
+    /// Blend each frame with the reprojected previous one (steadier, jittered
+    /// sampling).
+    pub temporal: bool,
+    /// Weight of the history with `temporal`, [0, 1).
+    pub history_weight: f32,
+    /// Continue the fog analytically beyond `far` (the medium's height fog, lit by
+    /// the sun without shadows).
+    pub tail: bool,
+    /// Scale of the sun's light in the fog (the surfaces see all of it), >= 0.
+    pub sun_scattering: f32,
+    /// Scale of the point and spot lights' light in the fog, >= 0.
+    pub light_scattering: f32,
+    /// Scale of the global ambient light in the fog, >= 0.
+    pub ambient_scattering: f32,
+    /// Exponent of the sun's exponential shadow map in the fog, filtered in log space
+    /// (`volfog::limits::ESM_EXPONENT_LOG_SPACE`, (0, 1e4]): larger is sharper, with
+    /// less light leaking behind occluders, at depths relative to each cascade's
+    /// depth range.
+    pub esm_exponent: f32,
+}
+
+impl Default for FroxelFog {
+    fn default() -> Self {
+        Self {
+            tile_size: 8,
+            slices: 128,
+            near: 0.5,
+            far: 128.0,
+            slice_curve: 4.0,
+            medium: FogMediumSettings::default(),
+            temporal: true,
+            history_weight: 0.9,
+            tail: true,
+            sun_scattering: 1.0,
+            light_scattering: 1.0,
+            ambient_scattering: 1.0,
+            esm_exponent: 300.0,
+        }
+    }
+}
+
+/// The participating medium of a [`FroxelFog`]: exponential height fog with animated
+/// noise (`volfog::uniforms::FogMedium`).
+#[derive(Clone, Debug, PartialEq)]
+pub struct FogMediumSettings {
+    /// Extinction at `base_height` (1/m), >= 0.
+    pub density: f32,
+    /// Scattering albedo (linear rgb, each in [0, 1]).
+    pub albedo: LinearRgba,
+    /// Height falloff (1/m): the density falls as exp(-falloff * (y - base_height)).
+    pub height_falloff: f32,
+    /// World height (m) of `density`.
+    pub base_height: f32,
+    /// Henyey-Greenstein mean cosine, (-1, 1): > 0 scatters forward (bright towards
+    /// the sun).
+    pub phase_g: f32,
+    /// Strength of the density noise, [0, 1].
+    pub noise_strength: f32,
+    /// Frequency of the density noise (1/m).
+    pub noise_scale: f32,
+    /// Wind moving the noise (m/s, world space).
+    pub wind: Vec3,
+}
+
+impl Default for FogMediumSettings {
+    fn default() -> Self {
+        let m = volfog::uniforms::FogMedium::default();
+        Self {
+            density: m.density,
+            albedo: LinearRgba::rgb(m.albedo.x, m.albedo.y, m.albedo.z),
+            height_falloff: m.height_falloff,
+            base_height: m.base_height,
+            phase_g: m.phase_g,
+            noise_strength: m.noise_strength,
+            noise_scale: m.noise_scale,
+            wind: Vec3::from_array(m.wind.to_array()),
+        }
+    }
+}
+
+/// The shape of a [`FroxelFogVolume`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum FogVolumeShape {
+    /// The unit cube (-0.5..0.5 on each axis) under the entity's transform, as Bevy's
+    /// own `FogVolume`.
+    #[default]
+    Box,
+    /// The sphere of diameter 1 under the entity's transform: scale it for an
+    /// ellipsoid.
+    Ellipsoid,
+}
+
+/// A local fog volume: density added (or, negative, removed) inside a box or an
+/// ellipsoid placed by the entity's transform. Every [`FroxelFog`] camera sees it.
+#[derive(Component, Clone, Debug, PartialEq)]
+#[require(Transform)]
+pub struct FroxelFogVolume {
+    /// Box or ellipsoid.
+    pub shape: FogVolumeShape,
+    /// Extinction added inside (1/m); negative clears fog (see
+    /// `volfog::limits::LOCAL_VOLUME_DENSITY`).
+    pub density: f32,
+    /// Width of the soft edge as a fraction of the shape's half extent, (0, 1].
+    pub edge: f32,
+}
+
+impl Default for FroxelFogVolume {
+    fn default() -> Self {
+        Self {
+            shape: FogVolumeShape::Box,
+            density: 0.1,
+            edge: 0.3,
+        }
+    }
+}

@@ -1,0 +1,210 @@
+//! Settings out of range, Bevy's way: the fog of that camera goes off with one warning
+//! that names the field and its range, and comes back when the settings are fixed;
+//! nothing panics and the image stays finite. Also: a camera with MSAA gets the same
+//! treatment, and a camera that loses its `FroxelFog` drops its fog pipeline.
+
+#[path = "../examples/fog_scene/scene.rs"]
+mod scene;
+
+use std::sync::{Arc, Mutex, OnceLock};
+
+use bevy::log::tracing::{Event, Level, Subscriber, field::Field, field::Visit};
+use bevy::log::tracing_subscriber::layer::{Context, Layer, SubscriberExt};
+use bevy::log::tracing_subscriber::registry::Registry;
+use bevy::prelude::*;
+use bevy::render::RenderApp;
+use scene::{FogKind, SceneCamera, SceneOptions};
+use volfog_bevy::{ExtractedFroxelFog, FogViews, FroxelFog};
+
+/// Collects the messages of WARN events.
+#[derive(Clone, Default)]
+struct Warnings(Arc<Mutex<Vec<String>>>);
+
+struct Message(String);
+
+impl Visit for Message {
+    fn record_debug(&mut self, field: &Field, value: &dyn std::fmt::Debug) {
+        if field.name() == "message" {
+            self.0 = format!("{value:?}");
+        }
+    }
+}
+
+impl<S: Subscriber> Layer<S> for Warnings {
+    fn on_event(&self, event: &Event<'_>, _: Context<'_, S>) {
+        if *event.metadata().level() == Level::WARN {
+            let mut message = Message(String::new());
+            event.record(&mut message);
+            self.0.lock().unwrap().push(message.0);
+        }
+    }
+}
+
+fn warnings() -> &'static Warnings {
+    static WARNINGS: OnceLock<Warnings> = OnceLock::new();
+    WARNINGS.get_or_init(|| {
+        let w = Warnings::default();
+        bevy::log::tracing::subscriber::set_global_default(Registry::default().with(w.clone()))
+            .expect("the first subscriber");
+        w
+    })
+}
+
+fn volfog_warnings() -> Vec<String> {
+    warnings()
+        .0
+        .lock()
+        .unwrap()
+        .iter()
+        .filter(|m| m.contains("volfog"))
+        .cloned()
+        .collect()
+}
+
+fn camera_entity(app: &mut App) -> Entity {
+    let world = app.world_mut();
+    let mut q = world.query_filtered::<Entity, With<SceneCamera>>();
+    q.single(world).unwrap()
+}
+
+/// (the camera's render entity has an extracted fog, fog pipelines in the render world)
+fn fog_state(app: &mut App) -> (bool, usize) {
+    let world = app.sub_app_mut(RenderApp).world_mut();
+    let extracted = world.query::<&ExtractedFroxelFog>().iter(world).count() > 0;
+    let views = world.resource::<FogViews>().len();
+    (extracted, views)
+}
+
+#[test]
+fn out_of_range_settings_turn_the_fog_off_with_one_warning() {
+    warnings();
+    let options = SceneOptions {
+        width: 96,
+        height: 54,
+        fog: FogKind::Froxel,
+        noise: false,
+        temporal: false,
+    };
+    let mut app = scene::app(&options);
+    app.update();
+    let camera = camera_entity(&mut app);
+    let good = scene::fog_settings(&options);
+    for _ in 0..2 {
+        app.update();
+    }
+    assert_eq!(
+        fog_state(&mut app),
+        (true, 1),
+        "the fog runs with valid settings"
+    );
+    // Bevy needs a few frames before every light reaches the surfaces.
+    let fogged = scene::capture(&mut app, 10);
+
+    for (bad, field) in [
+        (
+            FroxelFog {
+                tile_size: 0,
+                ..good.clone()
+            },
+            "FroxelFog.tile_size",
+        ),
+        (
+            FroxelFog {
+                far: 0.2,
+                ..good.clone()
+            },
+            "FroxelFog.far",
+        ),
+        (
+            FroxelFog {
+                slices: 5000,
+                ..good.clone()
+            },
+            "FroxelFog.slices",
+        ),
+        (
+            FroxelFog {
+                history_weight: 1.5,
+                temporal: true,
+                ..good.clone()
+            },
+            "FroxelFog.history_weight",
+        ),
+        (
+            FroxelFog {
+                sun_scattering: f32::NAN,
+                ..good.clone()
+            },
+            "FroxelFog.sun_scattering",
+        ),
+        (
+            FroxelFog {
+                medium: volfog_bevy::FogMediumSettings {
+                    density: -1.0,
+                    ..good.medium.clone()
+                },
+                ..good.clone()
+            },
+            "FroxelFog.medium.density",
+        ),
+    ] {
+        let before = volfog_warnings().len();
+        app.world_mut().entity_mut(camera).insert(bad);
+        let image = scene::capture(&mut app, 3);
+        let new: Vec<String> = volfog_warnings()[before..].to_vec();
+        eprintln!("{field}: {new:?}");
+        assert_eq!(
+            new.len(),
+            1,
+            "one warning over several frames for {field}: {new:?}"
+        );
+        assert!(
+            new[0].contains(field),
+            "the warning names {field}: {}",
+            new[0]
+        );
+        assert!(new[0].contains("fog is off"), "{}", new[0]);
+        assert_eq!(
+            fog_state(&mut app),
+            (false, 0),
+            "the fog is off for {field}"
+        );
+        assert!(image.iter().all(|p| p.is_finite()), "finite image");
+        app.world_mut().entity_mut(camera).insert(good.clone());
+        let back = scene::capture(&mut app, 2);
+        assert_eq!(
+            fog_state(&mut app),
+            (true, 1),
+            "the fog comes back after {field}"
+        );
+        let differs = back
+            .iter()
+            .zip(&fogged)
+            .filter(|(a, b)| (**a - **b).abs().max_element() > 1e-3)
+            .count();
+        assert_eq!(differs, 0, "the same fogged image after {field}");
+    }
+
+    // MSAA: the fog reads the single-sampled depth; one warning naming Msaa.
+    let before = volfog_warnings().len();
+    app.world_mut().entity_mut(camera).insert(Msaa::Sample4);
+    for _ in 0..3 {
+        app.update();
+    }
+    let new: Vec<String> = volfog_warnings()[before..].to_vec();
+    assert_eq!(new.len(), 1, "{new:?}");
+    assert!(new[0].contains("Msaa"), "{}", new[0]);
+    assert_eq!(fog_state(&mut app), (false, 0));
+    app.world_mut().entity_mut(camera).insert(Msaa::Off);
+    for _ in 0..2 {
+        app.update();
+    }
+    assert_eq!(fog_state(&mut app), (true, 1));
+
+    // Without FroxelFog the camera's fog and its pipeline go.
+    app.world_mut().entity_mut(camera).remove::<FroxelFog>();
+    for _ in 0..2 {
+        app.update();
+    }
+    assert_eq!(fog_state(&mut app), (false, 0));
+}

@@ -1,0 +1,72 @@
+//! The Bevy plugin (`bevy/`): a workspace of its own, built with the Rust toolchain its
+//! `rust-toolchain.toml` names (Bevy 0.20 needs a newer rustc than the rest of
+//! volfog). rustup installs that toolchain when it is missing; it goes to the user's
+//! rustup home, so no root is needed.
+
+use std::process::{Command, exit};
+
+use crate::root;
+
+/// The toolchain channel of `bevy/rust-toolchain.toml`.
+pub fn channel() -> String {
+    let path = root().join("bevy").join("rust-toolchain.toml");
+    let text = std::fs::read_to_string(&path).unwrap_or_else(|e| {
+        eprintln!("cannot read {}: {e}", path.display());
+        exit(1);
+    });
+    text.lines()
+        .filter_map(|l| l.trim().strip_prefix("channel"))
+        .filter_map(|rest| rest.trim().strip_prefix('='))
+        .map(|v| v.trim().trim_matches('"').to_string())
+        .next()
+        .unwrap_or_else(|| {
+            eprintln!("{} names no channel", path.display());
+            exit(1);
+        })
+}
+
+/// Installs the plugin's toolchain with rustup unless it is there.
+pub fn ensure_toolchain(channel: &str) {
+    let listed = Command::new("rustup")
+        .args(["toolchain", "list"])
+        .output()
+        .unwrap_or_else(|e| {
+            eprintln!(
+                "the Bevy plugin builds with Rust {channel} (bevy/rust-toolchain.toml), which rustup installs; rustup is not available: {e}"
+            );
+            exit(1);
+        });
+    let installed = String::from_utf8_lossy(&listed.stdout).lines().any(|l| {
+        l.starts_with(&format!("{channel}-")) || l.split_whitespace().next() == Some(channel)
+    });
+    if !installed {
+        crate::run(Command::new("rustup").args([
+            "toolchain",
+            "install",
+            channel,
+            "--profile",
+            "minimal",
+            "--component",
+            "clippy,rustfmt",
+        ]));
+    }
+}
+
+/// `cargo ARGS` in `bevy/` with its toolchain.
+pub fn cargo(channel: &str, args: &[&str]) -> Command {
+    let mut cmd = Command::new("rustup");
+    cmd.args(["run", channel, "cargo"])
+        .args(args)
+        .current_dir(root().join("bevy"));
+    // The outer cargo's toolchain must not leak into the inner one.
+    for var in [
+        "RUSTUP_TOOLCHAIN",
+        "CARGO",
+        "RUSTC",
+        "RUSTDOC",
+        "RUSTC_WRAPPER",
+    ] {
+        cmd.env_remove(var);
+    }
+    cmd
+}
