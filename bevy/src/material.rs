@@ -62,16 +62,16 @@ pub fn fog_layout_entries() -> Vec<BindGroupLayoutEntry> {
     volfog::pipeline::apply::fog_layout_entries(Filtering::Sampler, wgpu::ShaderStages::FRAGMENT)
 }
 
-/// Adds the fog's resources at bindings 0..4 of a material's bind group, or asks Bevy
-/// to retry next frame while no fog camera has its fog yet.
+/// Adds the fog's resources at bindings 0..4 of a material's bind group (a group that
+/// applies no fog while no camera has fog), or asks Bevy to retry next frame before the
+/// plugin's first frame.
 pub fn push_fog_bindings(
     fogs: &FogViews,
     output: &mut BindGroupBuilder,
 ) -> Result<(), AsBindGroupError> {
-    let Some(view) = fogs.primary() else {
+    let Some(r) = fogs.material_resources() else {
         return Err(AsBindGroupError::RetryNextUpdate);
     };
-    let r = view.fog.fog_resources();
     output.push((
         0,
         UnpreparedBindingResource::Buffer(r.froxels.clone().into()),

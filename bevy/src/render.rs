@@ -19,6 +19,71 @@ pub struct FogViews {
     views: HashMap<Entity, ViewFog>,
     /// Counts the fogs built (a material's group must be rebuilt when it changes).
     generation: u64,
+    /// What materials bind while no camera has fog: no fog at all.
+    fallback: Option<FallbackFog>,
+}
+
+/// A fog group that applies no fog: a 1 x 1 x 1 volume holding (0, 0, 0, 1), no tail.
+pub struct FallbackFog {
+    froxels: wgpu::Buffer,
+    volume: wgpu::TextureView,
+    tail: wgpu::Buffer,
+    view: wgpu::Buffer,
+    sampler: wgpu::Sampler,
+}
+
+impl FallbackFog {
+    fn new(device: &wgpu::Device, queue: &wgpu::Queue) -> Self {
+        use volfog::glam::UVec3;
+        use volfog::uniforms::{FogView, Froxels, HeightFog, to_uniform_bytes};
+        use wgpu::util::DeviceExt;
+        let buffer = |label, contents: &[u8]| {
+            device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some(label),
+                contents,
+                usage: wgpu::BufferUsages::UNIFORM,
+            })
+        };
+        let projection =
+            volfog::glam::camera::rh::proj::directx::perspective_infinite_reverse(1.0, 1.0, 0.1);
+        let froxels = Froxels::new(projection, UVec3::ONE, 0.5, 128.0, 0.0)
+            .expect("a valid one-froxel placement");
+        let texture = device.create_texture(&wgpu::TextureDescriptor {
+            label: Some("volfog no fog"),
+            size: wgpu::Extent3d {
+                width: 1,
+                height: 1,
+                depth_or_array_layers: 1,
+            },
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D3,
+            format: volfog::pipeline::VOLUME_FORMAT,
+            usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
+            view_formats: &[],
+        });
+        let clear: Vec<u8> = [0.0f32, 0.0, 0.0, 1.0]
+            .iter()
+            .flat_map(|v| half::f16::from_f32(*v).to_le_bytes())
+            .collect();
+        queue.write_texture(
+            texture.as_image_copy(),
+            &clear,
+            wgpu::TexelCopyBufferLayout {
+                offset: 0,
+                bytes_per_row: Some(8),
+                rows_per_image: Some(1),
+            },
+            texture.size(),
+        );
+        Self {
+            froxels: buffer("volfog no fog froxels", &froxels.to_bytes()),
+            volume: texture.create_view(&Default::default()),
+            tail: buffer("volfog no fog tail", &HeightFog::none().to_bytes()),
+            view: buffer("volfog no fog view", &to_uniform_bytes(&FogView::default())),
+            sampler: volfog::pipeline::apply::fog_sampler(device),
+        }
+    }
 }
 
 impl FogViews {
@@ -41,6 +106,22 @@ impl FogViews {
     /// read (they support one fog camera per app).
     pub fn primary(&self) -> Option<&ViewFog> {
         self.views.iter().min_by_key(|(e, _)| **e).map(|(_, v)| v)
+    }
+
+    /// The resources a material binds: those of [`FogViews::primary`], or while no
+    /// camera has fog, a group that applies none (`None` before the first frame).
+    pub fn material_resources(&self) -> Option<volfog::pipeline::apply::FogResources<'_>> {
+        match (self.primary(), &self.fallback) {
+            (Some(view), _) => Some(view.fog.fog_resources()),
+            (None, Some(f)) => Some(volfog::pipeline::apply::FogResources {
+                froxels: &f.froxels,
+                integrated: &f.volume,
+                tail: &f.tail,
+                view: &f.view,
+                sampler: &f.sampler,
+            }),
+            (None, None) => None,
+        }
     }
 }
 
@@ -72,9 +153,13 @@ type ViewItems = (
 pub fn build_froxel_fog(
     views: Query<(Entity, &ExtractedFroxelFog)>,
     device: Res<RenderDevice>,
+    queue: Res<RenderQueue>,
     mut fogs: ResMut<FogViews>,
     mut warned: Local<HashSet<Entity>>,
 ) {
+    if fogs.fallback.is_none() {
+        fogs.fallback = Some(FallbackFog::new(device.wgpu_device(), &queue));
+    }
     let live: HashSet<Entity> = views.iter().map(|(e, _)| e).collect();
     fogs.views.retain(|e, _| live.contains(e));
     for (entity, extracted) in &views {

@@ -44,6 +44,9 @@ struct Renders {
     /// The default glass (alpha 0.35) with and without its fog.
     glass_fogged: Vec<Vec4>,
     glass_bare: Vec<Vec4>,
+    /// The same two without fog on the camera.
+    unfogged_bare: Vec<Vec4>,
+    unfogged_glass: Vec<Vec4>,
     /// The integrated volume of the fogged frame and of the frame without the sun's
     /// shadows.
     volume: Volume,
@@ -240,6 +243,11 @@ fn renders() -> &'static Renders {
             }),
         );
         let glass_bare = scene::capture(&mut app, frames);
+        // Without a fog camera the material binds a group that applies no fog.
+        set_fog(&mut app, None);
+        let unfogged_bare = scene::capture(&mut app, frames);
+        set_glass(&mut app, Some(FoggedGlassMaterial::default()));
+        let unfogged_glass = scene::capture(&mut app, frames);
         // The renders as PNGs for inspection.
         let out = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("fog_scene");
         std::fs::create_dir_all(&out).unwrap();
@@ -252,6 +260,8 @@ fn renders() -> &'static Renders {
             ("glass_wesl", &glass_wesl),
             ("glass_fogged", &glass_fogged),
             ("glass_bare", &glass_bare),
+            ("unfogged_bare", &unfogged_bare),
+            ("unfogged_glass", &unfogged_glass),
         ] {
             scene::write_png(&out.join(format!("{name}.png")), W, H, image).unwrap();
             let raw: Vec<u8> = image
@@ -270,6 +280,8 @@ fn renders() -> &'static Renders {
             glass_wesl,
             glass_fogged,
             glass_bare,
+            unfogged_bare,
+            unfogged_glass,
             volume,
             volume_unshadowed,
             options,
@@ -355,6 +367,8 @@ fn renders_have_no_nan() {
         ("glass_wesl", &r.glass_wesl),
         ("glass_fogged", &r.glass_fogged),
         ("glass_bare", &r.glass_bare),
+        ("unfogged_bare", &r.unfogged_bare),
+        ("unfogged_glass", &r.unfogged_glass),
     ] {
         assert_eq!(image.len(), (W * H) as usize, "{name}");
         let bad = image.iter().filter(|p| !p.is_finite()).count();
@@ -573,4 +587,25 @@ fn glass_gets_the_fullscreen_fog() {
     assert!(mean <= 5e-3, "mean {mean}");
     assert!(worst <= 2e-2, "worst {worst}");
     assert!(fog_share >= 0.05, "the glass is fogged: {fog_share}");
+    // Without a fog camera the glass draws, unfogged.
+    let worst_unfogged = r
+        .unfogged_glass
+        .iter()
+        .zip(&r.unfogged_bare)
+        .map(|(a, b)| (*a - *b).abs().max_element())
+        .fold(0.0f32, f32::max);
+    let drawn = r
+        .unfogged_glass
+        .iter()
+        .zip(&r.surface)
+        .filter(|(a, b)| (**a - **b).abs().max_element() > 1e-2)
+        .count();
+    eprintln!(
+        "without a fog camera the glass covers {drawn} px and its fog changes nothing (worst {worst_unfogged:.1e}, bound 1e-3)"
+    );
+    assert!(
+        drawn >= 30,
+        "the glass draws without a fog camera: {drawn} px"
+    );
+    assert!(worst_unfogged <= 1e-3, "{worst_unfogged}");
 }

@@ -456,11 +456,15 @@ fn spawn(
         }
     }
     if options.fog == FogKind::BevyBuiltIn {
-        // Bevy's fog lives in volumes: one box around the scene, as dense as ours at
-        // the ground.
+        // Bevy's fog lives in volumes: one box around the scene, with the extinction,
+        // albedo and phase asymmetry of ours at the ground (Bevy's extinction is
+        // density_factor * (absorption + scattering)).
         commands.spawn((
             FogVolume {
                 density_factor: 0.035,
+                absorption: 0.1,
+                scattering: 0.9,
+                scattering_asymmetry: 0.7,
                 ..Default::default()
             },
             Transform::from_xyz(0.0, 10.0, -20.0).with_scale(Vec3::new(120.0, 20.0, 120.0)),
