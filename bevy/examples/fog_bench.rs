@@ -13,6 +13,7 @@ mod scene;
 use std::path::PathBuf;
 use std::time::Instant;
 
+use bevy::diagnostic::DiagnosticsStore;
 use bevy::render::RenderApp;
 use bevy::render::renderer::RenderDevice;
 use clap::Parser;
@@ -22,7 +23,7 @@ use scene::{FogKind, SceneOptions};
 #[derive(Parser)]
 struct Args {
     /// Output folder.
-    #[arg(long, default_value = "out/bevy")]
+    #[arg(long, default_value = concat!(env!("CARGO_MANIFEST_DIR"), "/../out/bevy"))]
     out: PathBuf,
     #[arg(long, default_value_t = 1920)]
     width: u32,
@@ -40,6 +41,26 @@ struct Timed {
     name: &'static str,
     frames_ms: Vec<f64>,
     median_ms: f64,
+    /// GPU time of each render span over the timed frames (ms, median), by path.
+    gpu_spans: Vec<(String, f64)>,
+}
+
+/// The median of the last `n` values of every `render/.../elapsed_gpu` diagnostic.
+fn gpu_spans(app: &bevy::app::App, n: usize) -> Vec<(String, f64)> {
+    let store = app.world().resource::<DiagnosticsStore>();
+    let mut spans: Vec<(String, f64)> = store
+        .iter()
+        .filter(|d| d.path().as_str().ends_with("/elapsed_gpu"))
+        .filter_map(|d| {
+            let mut values: Vec<f64> = d.values().copied().collect();
+            let start = values.len().saturating_sub(n);
+            let mut last = values.split_off(start);
+            last.sort_by(f64::total_cmp);
+            (!last.is_empty()).then(|| (d.path().as_str().to_string(), last[last.len() / 2]))
+        })
+        .collect();
+    spans.sort_by(|a, b| a.0.cmp(&b.0));
+    spans
 }
 
 fn run(
@@ -51,6 +72,7 @@ fn run(
         width: args.width,
         height: args.height,
         fog: kind,
+        gpu_timings: true,
         ..SceneOptions::default()
     };
     let mut app = scene::app(&options);
@@ -72,6 +94,7 @@ fn run(
         idle(&app)?;
         frames_ms.push(start.elapsed().as_secs_f64() * 1e3);
     }
+    let gpu_spans = gpu_spans(&app, args.frames as usize);
     let pixels = scene::capture(&mut app, 0);
     if pixels.iter().any(|p| !p.is_finite()) {
         return Err(format!("{name}: NaN or infinite pixels").into());
@@ -89,10 +112,14 @@ fn run(
         "{name}: median frame {median_ms:.1} ms over {} frames",
         frames_ms.len()
     );
+    for (path, ms) in &gpu_spans {
+        eprintln!("  GPU {path}: {ms:.1} ms");
+    }
     Ok(Timed {
         name,
         frames_ms,
         median_ms,
+        gpu_spans,
     })
 }
 
@@ -104,6 +131,14 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         run(FogKind::Froxel, "volfog", &args)?,
         run(FogKind::BevyBuiltIn, "bevy_volumetric_fog", &args)?,
     ];
+    let span = |t: &Timed, key: &str| {
+        t.gpu_spans
+            .iter()
+            .find(|(p, _)| p.contains(key))
+            .map(|(_, ms)| *ms)
+    };
+    let gpu_volfog = span(&runs[1], "volfog");
+    let gpu_bevy = span(&runs[2], "volumetric_lighting");
     let base = runs[0].median_ms;
     let cost = |t: &Timed| (t.median_ms - base).max(0.0);
     let (ours, bevys) = (cost(&runs[1]), cost(&runs[2]));
@@ -117,13 +152,22 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             "name": t.name,
             "median_frame_ms": t.median_ms,
             "frames_ms": t.frames_ms,
+            "gpu_spans_ms": t.gpu_spans.iter().map(|(p, ms)| (p.clone(), *ms)).collect::<std::collections::BTreeMap<_, _>>(),
         })).collect::<Vec<_>>(),
+        "fog_gpu_ms": { "volfog": gpu_volfog, "bevy_volumetric_fog": gpu_bevy },
+        "fog_gpu_ratio_bevy_over_volfog": gpu_volfog.zip(gpu_bevy).map(|(a, b)| b / a),
         "fog_cost_ms": { "volfog": ours, "bevy_volumetric_fog": bevys },
         "frame_ratio_bevy_over_volfog": frame_ratio,
         "fog_cost_ratio_bevy_over_volfog": cost_ratio,
     });
     let path = args.out.join("fog_bench.json");
     std::fs::write(&path, serde_json::to_string_pretty(&report)?)?;
+    if let (Some(a), Some(b)) = (gpu_volfog, gpu_bevy) {
+        println!(
+            "GPU time of the fog (timestamp queries): volfog {a:.1} ms, Bevy's VolumetricFog {b:.1} ms ({:.1}x)",
+            b / a
+        );
+    }
     println!(
         "{}x{}: frame {:.1} ms without fog, {:.1} ms with volfog, {:.1} ms with Bevy's VolumetricFog; fog cost {ours:.1} ms vs {bevys:.1} ms ({cost_ratio:.1}x); report {}",
         args.width,

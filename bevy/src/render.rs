@@ -6,6 +6,7 @@ use std::collections::{HashMap, HashSet};
 
 use bevy::pbr::ViewShadowBindings;
 use bevy::prelude::*;
+use bevy::render::diagnostic::RecordDiagnostics;
 use bevy::render::renderer::{RenderContext, RenderDevice, RenderQueue, ViewQuery};
 use bevy::render::view::{ViewDepthStencilTexture, ViewTarget};
 use volfog::pipeline::apply::ApplyPipeline;
@@ -290,6 +291,11 @@ pub fn froxel_fog_pass(
     let (Some((_, apply)), Some((_, depth_group))) = (&fog.apply, &fog.depth) else {
         return;
     };
+    // A span of Bevy's render diagnostics (GPU time with RenderDiagnosticsPlugin and
+    // timestamp queries), as Bevy's own passes record.
+    let diagnostics = ctx.diagnostic_recorder();
+    let diagnostics = diagnostics.as_deref();
+    let span = diagnostics.time_span(ctx.command_encoder(), "volfog");
     let encoder = ctx.command_encoder();
     encoder.push_debug_group("volfog");
     let result = fog.fog.encode(encoder).and_then(|()| {
@@ -297,6 +303,7 @@ pub fn froxel_fog_pass(
             .record_apply(encoder, apply, target.main_texture_view(), depth_group)
     });
     encoder.pop_debug_group();
+    span.end(ctx.command_encoder());
     if let Err(error) = result {
         // prepare_froxel_fog ran for this view, so encoding cannot fail; log if it does.
         error!("volfog: view {entity}: {error}");

@@ -196,6 +196,7 @@ fn renders() -> &'static Renders {
             fog: FogKind::Froxel,
             noise: false,
             temporal: false,
+            gpu_timings: false,
         };
         let mut app = scene::app(&options);
         // The first frame spawns the scene.

@@ -84,6 +84,7 @@ fn out_of_range_settings_turn_the_fog_off_with_one_warning() {
         fog: FogKind::Froxel,
         noise: false,
         temporal: false,
+        gpu_timings: false,
     };
     let mut app = scene::app(&options);
     app.update();

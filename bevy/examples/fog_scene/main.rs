@@ -1,6 +1,6 @@
 //! `cargo run -p volfog-bevy --example fog_scene [-- --out DIR --width W --height H]`:
 //! the fog scene rendered headless with volfog's froxel fog, written to
-//! `DIR/fog_scene.png` (default `out/bevy`).
+//! `DIR/fog_scene.png` (default: `out/bevy` at the repository root).
 
 mod scene;
 
@@ -13,7 +13,7 @@ use scene::{FogKind, SceneOptions};
 #[derive(Parser)]
 struct Args {
     /// Output folder.
-    #[arg(long, default_value = "out/bevy")]
+    #[arg(long, default_value = concat!(env!("CARGO_MANIFEST_DIR"), "/../out/bevy"))]
     out: PathBuf,
     /// Image width in pixels.
     #[arg(long, default_value_t = 960)]

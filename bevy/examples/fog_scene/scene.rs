@@ -60,6 +60,8 @@ pub struct SceneOptions {
     pub noise: bool,
     /// Temporal reprojection on.
     pub temporal: bool,
+    /// Record GPU time spans (timestamp queries and Bevy's `RenderDiagnosticsPlugin`).
+    pub gpu_timings: bool,
 }
 
 impl Default for SceneOptions {
@@ -70,6 +72,7 @@ impl Default for SceneOptions {
             fog: FogKind::Froxel,
             noise: true,
             temporal: true,
+            gpu_timings: false,
         }
     }
 }
@@ -235,6 +238,13 @@ pub fn app(options: &SceneOptions) -> App {
             .set(RenderPlugin {
                 render_creation: RenderCreation::Automatic(Box::new(WgpuSettings {
                     backends: Some(wgpu::Backends::VULKAN),
+                    features: if options.gpu_timings {
+                        wgpu::Features::TIMESTAMP_QUERY
+                            | wgpu::Features::TIMESTAMP_QUERY_INSIDE_ENCODERS
+                            | wgpu::Features::TIMESTAMP_QUERY_INSIDE_PASSES
+                    } else {
+                        wgpu::Features::empty()
+                    },
                     ..Default::default()
                 })),
                 synchronous_pipeline_compilation: true,
@@ -250,6 +260,9 @@ pub fn app(options: &SceneOptions) -> App {
     })
     .insert_resource(options.clone_resource())
     .add_systems(Startup, spawn);
+    if options.gpu_timings {
+        app.add_plugins(bevy::render::diagnostic::RenderDiagnosticsPlugin);
+    }
     while app.plugins_state() == PluginsState::Adding {
         bevy::tasks::tick_global_task_pools_on_main_thread();
     }
