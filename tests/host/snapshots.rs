@@ -9,7 +9,9 @@
 //! - `manifest.snap`: the manifest entries of those variants; `snapshots/manifest.snap`
 //!   holds the manifest's conventions and targets;
 //! - `snapshots/snippets/`: the include snippets (`volfog_all`, every definition once)
-//!   in each language, and `snapshots/volfog_layout.h.snap` the C/C++ layout header.
+//!   in each language, and `snapshots/volfog_layout.h.snap` the C/C++ layout header;
+//! - `snapshots/wesl/`: every module of the WESL package (`volfog_codegen::wesl`, what
+//!   Bevy shaders import), as generated.
 //!
 //! naga names the temporaries it bakes after their expression index (`_e102`), so one
 //! added expression renumbers every later one; in the snapshots each is renamed after
@@ -219,6 +221,15 @@ fn translations_and_manifest() {
             let name = all.file_name(language);
             insta::assert_snapshot!(name.clone(), stable_temporaries(all.text(language)));
             referenced.insert(snippet_dir.join(format!("{name}.snap")));
+        }
+    });
+    // The WESL package, one module per file.
+    let wesl_dir = root.join("wesl");
+    with_snapshot_path(&wesl_dir, || {
+        for module in volfog_codegen::wesl::wesl_package().unwrap() {
+            let name = format!("{}.wesl", module.name);
+            insta::assert_snapshot!(name.clone(), module.source);
+            referenced.insert(wesl_dir.join(format!("{name}.snap")));
         }
     });
 
