@@ -23,7 +23,7 @@ use std::sync::OnceLock;
 
 use bevy::prelude::*;
 use bevy::render::RenderApp;
-use bevy::render::renderer::{RenderDevice, RenderQueue};
+use bevy::render::renderer::{RenderAdapter, RenderAdapterInfo, RenderDevice, RenderQueue};
 use scene::{FogKind, GlassSphere, SceneCamera, SceneOptions, Sun};
 use volfog::glam as vg;
 use volfog_bevy::{ExtractedFroxelFog, FogViews, FoggedGlassMaterial, FroxelFog};
@@ -65,46 +65,18 @@ fn read_volume(app: &App) -> Volume {
     let world = app.sub_app(RenderApp).world();
     let fogs = world.resource::<FogViews>();
     let texture = fogs.primary().expect("a fog view").fog.integrated_texture();
-    let device = world.resource::<RenderDevice>().wgpu_device();
-    let queue: &wgpu::Queue = world.resource::<RenderQueue>();
-    let size = texture.size();
-    let row = size.width * 8;
-    let padded =
-        row.div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT) * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
-    let staging = device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some("integrated volume readback"),
-        size: u64::from(padded * size.height * size.depth_or_array_layers),
-        usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-        mapped_at_creation: false,
-    });
-    let mut encoder = device.create_command_encoder(&Default::default());
-    encoder.copy_texture_to_buffer(
-        texture.as_image_copy(),
-        wgpu::TexelCopyBufferInfo {
-            buffer: &staging,
-            layout: wgpu::TexelCopyBufferLayout {
-                offset: 0,
-                bytes_per_row: Some(padded),
-                rows_per_image: Some(size.height),
-            },
-        },
-        size,
-    );
-    queue.submit([encoder.finish()]);
-    staging
-        .slice(..)
-        .map_async(wgpu::MapMode::Read, |r| r.expect("map the readback"));
-    device
-        .poll(wgpu::PollType::wait_indefinitely())
-        .expect("poll");
-    let bytes = staging
-        .slice(..)
-        .get_mapped_range()
-        .expect("mapped")
-        .to_vec();
+    // Bevy's device, queue and adapter, with volfog's GPU test helpers.
+    let gpu = volfog_testkit::gpu::Gpu {
+        adapter: (**world.resource::<RenderAdapter>()).clone(),
+        device: world.resource::<RenderDevice>().wgpu_device().clone(),
+        queue: (**world.resource::<RenderQueue>()).clone(),
+        info: (**world.resource::<RenderAdapterInfo>()).clone(),
+    };
+    let bytes = gpu
+        .read_texture_raw(texture, 8)
+        .expect("read the integrated volume");
     let texels = bytes
-        .chunks_exact(padded as usize)
-        .flat_map(|r| r[..row as usize].chunks_exact(8))
+        .chunks_exact(8)
         .map(|p| {
             let h = |i: usize| half::f16::from_le_bytes([p[2 * i], p[2 * i + 1]]).to_f32();
             Vec4::new(h(0), h(1), h(2), h(3))

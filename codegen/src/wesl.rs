@@ -1292,11 +1292,13 @@ impl Translator<'_> {
             };
             let chained = b > 0 && ctx.attr.is_empty();
             match mode {
-                Mode::Single => {
+                Mode::Single | Mode::PerItem => {
                     if let Some(comment) = &comment {
                         self.push(ctx, &format!("{indent}{comment}"));
                     }
-                    let attr = if chained && !infos[0].starts.is_empty() {
+                    // A single item per branch chains with `@else`; items that each
+                    // carry their own condition cannot.
+                    let attr = if mode == Mode::Single && chained && !infos[0].starts.is_empty() {
                         "@else".to_string()
                     } else {
                         format!("@if({})", condition(&lits))
@@ -1337,24 +1339,6 @@ impl Translator<'_> {
                         None => format!("{indent}}}"),
                     };
                     self.push(ctx, &tail);
-                }
-                Mode::PerItem => {
-                    if let Some(comment) = &comment {
-                        self.push(ctx, &format!("{indent}{comment}"));
-                    }
-                    let attr = format!("@if({})", condition(&lits));
-                    let attrs: HashMap<usize, String> =
-                        info.starts.iter().map(|&s| (s, attr.clone())).collect();
-                    let sub = Ctx {
-                        indent: ctx.indent.clone(),
-                        attr: lits,
-                        base: start.stack.len(),
-                        scope,
-                    };
-                    self.seq(&branch.body, &sub, &attrs)?;
-                    if let Some(comment) = &endif_comment {
-                        self.push(ctx, &format!("{indent}{comment}"));
-                    }
                 }
             }
             if !self.scan.same_level(&start) {
