@@ -1,7 +1,8 @@
 //! Settings out of range, Bevy's way: the fog of that camera goes off with one warning
 //! that names the field and its range, and comes back when the settings are fixed;
 //! nothing panics and the image stays finite. Also: a camera with MSAA gets the same
-//! treatment, and a camera that loses its `FroxelFog` drops its fog pipeline.
+//! treatment, a resized view gets a grid of its new size, and a camera that loses its
+//! `FroxelFog` drops its fog pipeline.
 
 #[path = "../examples/fog_scene/scene.rs"]
 mod scene;
@@ -201,6 +202,29 @@ fn out_of_range_settings_turn_the_fog_off_with_one_warning() {
         app.update();
     }
     assert_eq!(fog_state(&mut app), (true, 1));
+
+    // Resized with the view: the grid follows the render target.
+    let grid = |app: &mut App| {
+        let world = app.sub_app_mut(RenderApp).world_mut();
+        let mut q = world.query::<&ExtractedFroxelFog>();
+        q.iter(world).next().map(|f| f.config.volume_size)
+    };
+    assert_eq!(grid(&mut app), Some(volfog::glam::UVec3::new(12, 7, 128)));
+    let target = app.world().resource::<scene::Capture>().image.clone();
+    app.world_mut()
+        .resource_mut::<Assets<Image>>()
+        .get_mut(&target)
+        .unwrap()
+        .resize(bevy::render::render_resource::Extent3d {
+            width: 160,
+            height: 90,
+            depth_or_array_layers: 1,
+        });
+    let resized = scene::capture(&mut app, 3);
+    assert_eq!(grid(&mut app), Some(volfog::glam::UVec3::new(20, 12, 128)));
+    assert_eq!(fog_state(&mut app), (true, 1));
+    assert_eq!(resized.len(), 160 * 90);
+    assert!(resized.iter().all(|p| p.is_finite()));
 
     // Without FroxelFog the camera's fog and its pipeline go.
     app.world_mut().entity_mut(camera).remove::<FroxelFog>();
