@@ -582,3 +582,74 @@ fn glass_gets_the_fullscreen_fog() {
     );
     assert!(worst_unfogged <= 1e-3, "{worst_unfogged}");
 }
+
+/// The lights reach the fog in Bevy's units scaled by the camera's exposure, as Bevy's
+/// PBR shader lights surfaces: a point or spot light's intensity at 1 m is
+/// `color * lumens / 4 pi`, the sun's `color * lux`, the ambient `color * brightness`.
+/// The scene gives its lamps in lumens from the demo's intensities at 1 m, so the fog
+/// must get those intensities back.
+#[test]
+fn lights_reach_the_fog_in_bevys_units() {
+    let r = renders();
+    let fog = &r.volume.fog;
+    let exposure = bevy::camera::Exposure {
+        ev100: scene::EV100,
+    }
+    .exposure();
+    let close =
+        |a: vg::Vec3, b: vg::Vec3| (a - b).abs().max_element() <= 1e-4 * b.max_element().max(1.0);
+    assert_eq!(fog.lights.len(), 5, "three point and two spot lights");
+    // The red light by the glass sphere: 35 at 1 m, range 6 m.
+    let red = fog
+        .lights
+        .iter()
+        .find(|l| l.range == 6.0)
+        .expect("the light by the sphere");
+    assert!(
+        close(red.color, vg::Vec3::new(1.0, 0.17, 0.09) * 35.0),
+        "{:?}",
+        red.color
+    );
+    assert!(red.cos_outer <= -1.0, "a point light has no cone");
+    // The magenta spot: 110 at 1 m, cone 0.3..0.5 rad, pointing down and forward.
+    let spot = fog
+        .lights
+        .iter()
+        .find(|l| (l.position.x + 7.2).abs() < 1e-4 && l.cos_outer > -1.0)
+        .expect("the magenta spot");
+    assert!(
+        close(spot.color, vg::Vec3::new(1.0, 0.16, 0.86) * 110.0),
+        "{:?}",
+        spot.color
+    );
+    assert!(
+        (spot.cos_outer - 0.5f32.cos()).abs() < 1e-5
+            && (spot.cos_inner - 0.3f32.cos()).abs() < 1e-5
+    );
+    assert!(
+        spot.direction
+            .dot(vg::Vec3::new(0.0, -1.0, 0.25).normalize())
+            > 0.9999
+    );
+    // The sun: 7800 lux, direction towards it.
+    assert!(close(
+        fog.sun.color,
+        vg::Vec3::new(1.0, 0.75, 0.48) * 7800.0 * exposure
+    ));
+    let sun = scene::sun_direction();
+    assert!(fog.sun.direction.dot(vg::Vec3::from_array(sun.to_array())) > 0.9999);
+    // The ambient light: SH of a constant radiance (L0 coefficient times 1 / (2 sqrt(pi))).
+    let ambient = vg::Vec3::new(0.57, 0.71, 1.0) * 140.0 * exposure;
+    let l0 = vg::Vec3::new(
+        fog.ambient.rgb[0].x,
+        fog.ambient.rgb[1].x,
+        fog.ambient.rgb[2].x,
+    );
+    let back = volfog::cpu::ambient::AmbientSh::constant(ambient);
+    let want = vg::Vec3::new(back.rgb[0].x, back.rgb[1].x, back.rgb[2].x);
+    assert!(close(l0, want), "{l0:?} vs {want:?}");
+    eprintln!(
+        "lights in the fog: red lamp {:?} (want 35 x (1, 0.17, 0.09)), magenta spot {:?} (want 110 x (1, 0.16, 0.86)), sun {:?}",
+        red.color, spot.color, fog.sun.color
+    );
+}
