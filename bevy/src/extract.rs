@@ -137,8 +137,8 @@ pub fn extract_froxel_fog(
     cameras: Extract<Query<FogCameraItems>>,
     others: Extract<Query<RenderEntity, OtherCameras>>,
     suns: Extract<SunQuery>,
-    points: Extract<Query<(&PointLight, &GlobalTransform, &ViewVisibility)>>,
-    spots: Extract<Query<(&SpotLight, &GlobalTransform, &ViewVisibility)>>,
+    points: Extract<Query<(&PointLight, &GlobalTransform)>>,
+    spots: Extract<Query<(&SpotLight, &GlobalTransform)>>,
     volumes: Extract<Query<(&FroxelFogVolume, &GlobalTransform)>>,
     ambient: Extract<Option<Res<GlobalAmbientLight>>>,
     shadow_map: Extract<Res<DirectionalLightShadowMap>>,
@@ -192,14 +192,14 @@ struct Scene<'a> {
 }
 
 fn collect_lights(
-    points: &Query<(&PointLight, &GlobalTransform, &ViewVisibility)>,
-    spots: &Query<(&SpotLight, &GlobalTransform, &ViewVisibility)>,
+    points: &Query<(&PointLight, &GlobalTransform)>,
+    spots: &Query<(&SpotLight, &GlobalTransform)>,
     exposure: f32,
     scattering: f32,
 ) -> Vec<FogLight> {
     let candela = exposure / (4.0 * std::f32::consts::PI);
     let mut lights = Vec::new();
-    for (light, transform, _) in points.iter() {
+    for (light, transform) in points.iter() {
         let color = rgb(light.color.to_linear()) * (light.intensity * candela);
         lights.push(FogLight {
             fog_intensity: scattering,
@@ -207,7 +207,7 @@ fn collect_lights(
             ..FogLight::point(vec3(transform.translation()), color, light.range)
         });
     }
-    for (light, transform, _) in spots.iter() {
+    for (light, transform) in spots.iter() {
         let color = rgb(light.color.to_linear()) * (light.intensity * candela);
         lights.push(FogLight {
             fog_intensity: scattering,

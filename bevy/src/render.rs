@@ -18,8 +18,6 @@ use crate::extract::ExtractedFroxelFog;
 #[derive(Resource, Default)]
 pub struct FogViews {
     views: HashMap<Entity, ViewFog>,
-    /// Counts the fogs built (a material's group must be rebuilt when it changes).
-    generation: u64,
     /// What materials bind while no camera has fog: no fog at all.
     fallback: Option<FallbackFog>,
 }
@@ -128,11 +126,9 @@ impl FogViews {
 
 /// One camera's fog pipeline and what it was last bound to.
 pub struct ViewFog {
-    /// The pipeline.
+    /// The pipeline (rebuilt when the settings, the viewport or the shadow map
+    /// change).
     pub fog: VolumetricFog,
-    /// Which fog this is ([`ViewFog::fog`] is rebuilt when the settings or the
-    /// viewport change).
-    pub generation: u64,
     apply: Option<(wgpu::TextureFormat, ApplyPipeline)>,
     shadow_map: Option<wgpu::Texture>,
     depth: Option<(wgpu::Texture, wgpu::BindGroup)>,
@@ -175,13 +171,10 @@ pub fn build_froxel_fog(
         match VolumetricFog::new(device.wgpu_device(), &extracted.config) {
             Ok(fog) => {
                 warned.remove(&entity);
-                fogs.generation += 1;
-                let generation = fogs.generation;
                 fogs.views.insert(
                     entity,
                     ViewFog {
                         fog,
-                        generation,
                         apply: None,
                         shadow_map: None,
                         depth: None,

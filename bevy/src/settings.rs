@@ -6,8 +6,8 @@ use bevy::prelude::*;
 /// Froxel volumetric fog for a 3D camera: add it next to `Camera3d`. The fog is
 /// computed in a volume of froxels (screen tiles x depth slices) from the camera's
 /// near fog plane to `far`, lit by the first shadow-casting `DirectionalLight` (through
-/// its shadow cascades), every `PointLight` and `SpotLight` and the global ambient
-/// light, and applied to the opaque scene before the transparent pass and
+/// its shadow cascades), the `PointLight`s and `SpotLight`s (the first 64 found) and
+/// the global ambient light, and applied to the opaque scene before the transparent pass and
 /// tonemapping. Beyond `far` an analytic height-fog tail continues it.
 ///
 /// Values out of range switch the fog off for this camera with one warning naming
