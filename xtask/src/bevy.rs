@@ -70,3 +70,38 @@ pub fn cargo(channel: &str, args: &[&str]) -> Command {
     }
     cmd
 }
+
+/// Removes the root workspace's dev build (`target/debug`) once its suite has passed, so
+/// that a disk-tight machine holds one workspace's build at a time; the Bevy workspace
+/// builds into `target/bevy` with its own toolchain and never reads it. The tools under
+/// `target/tools` stay.
+pub fn drop_root_build() {
+    let dir = root().join("target").join("debug");
+    let bytes = dir_size(&dir);
+    match std::fs::remove_dir_all(&dir) {
+        Ok(()) => eprintln!(
+            "VOLFOG_FREE_DISK=1: removed the root workspace's build {} ({} MB) before the Bevy build",
+            dir.display(),
+            bytes / 1_000_000
+        ),
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => {}
+        Err(e) => eprintln!(
+            "VOLFOG_FREE_DISK=1: could not remove {}: {e}; going on",
+            dir.display()
+        ),
+    }
+}
+
+fn dir_size(dir: &std::path::Path) -> u64 {
+    let Ok(entries) = std::fs::read_dir(dir) else {
+        return 0;
+    };
+    entries
+        .flatten()
+        .map(|e| match e.file_type() {
+            Ok(t) if t.is_dir() => dir_size(&e.path()),
+            Ok(t) if t.is_file() => e.metadata().map(|m| m.len()).unwrap_or(0),
+            _ => 0,
+        })
+        .sum()
+}

@@ -101,6 +101,9 @@ fn main() {
                 .env("VOLFOG_TOOLS_DIR", tools)
                 .env("INSTA_UPDATE", "no")
                 .env("CI", "true"));
+            if std::env::var_os("VOLFOG_FREE_DISK").is_some_and(|v| v == "1") {
+                bevy::drop_root_build();
+            }
             // The Bevy plugin, its WESL package and its example scene.
             let channel = bevy::channel();
             bevy::ensure_toolchain(&channel);
