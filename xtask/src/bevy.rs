@@ -71,24 +71,31 @@ pub fn cargo(channel: &str, args: &[&str]) -> Command {
     cmd
 }
 
-/// Removes the root workspace's dev build (`target/debug`) once its suite has passed, so
-/// that a disk-tight machine holds one workspace's build at a time; the Bevy workspace
-/// builds into `target/bevy` with its own toolchain and never reads it. The tools under
-/// `target/tools` stay.
-pub fn drop_root_build() {
-    let dir = root().join("target").join("debug");
-    let bytes = dir_size(&dir);
-    match std::fs::remove_dir_all(&dir) {
-        Ok(()) => eprintln!(
-            "VOLFOG_FREE_DISK=1: removed the root workspace's build {} ({} MB) before the Bevy build",
-            dir.display(),
-            bytes / 1_000_000
-        ),
-        Err(e) if e.kind() == std::io::ErrorKind::NotFound => {}
-        Err(e) => eprintln!(
-            "VOLFOG_FREE_DISK=1: could not remove {}: {e}; going on",
-            dir.display()
-        ),
+/// What only the root suite uses: its dev build, its test scratch space, the independent
+/// compilers' venv and the Dawn packages (all rebuilt by the next `cargo xtask test`).
+const ROOT_ONLY: [&str; 5] = [
+    "target/debug",
+    "target/tmp",
+    "target/tools",
+    "tools/dawn/node_modules",
+    "examples/webgpu-node/node_modules",
+];
+
+/// Removes what only the root suite uses once that suite has passed, so that a
+/// disk-tight machine holds one workspace's build at a time: the Bevy workspace builds
+/// into `target/bevy` with its own toolchain and reads none of it.
+pub fn drop_root_outputs() {
+    for rel in ROOT_ONLY {
+        let dir = root().join(rel);
+        let bytes = dir_size(&dir);
+        match std::fs::remove_dir_all(&dir) {
+            Ok(()) => eprintln!(
+                "VOLFOG_FREE_DISK=1: removed {rel} ({} MB) before the Bevy build",
+                bytes / 1_000_000
+            ),
+            Err(e) if e.kind() == std::io::ErrorKind::NotFound => {}
+            Err(e) => eprintln!("VOLFOG_FREE_DISK=1: could not remove {rel}: {e}; going on"),
+        }
     }
 }
 

@@ -102,7 +102,7 @@ fn main() {
                 .env("INSTA_UPDATE", "no")
                 .env("CI", "true"));
             if std::env::var_os("VOLFOG_FREE_DISK").is_some_and(|v| v == "1") {
-                bevy::drop_root_build();
+                bevy::drop_root_outputs();
             }
             // The Bevy plugin, its WESL package and its example scene.
             let channel = bevy::channel();
