@@ -24,6 +24,7 @@ pub mod scan;
 pub mod sky;
 pub mod soft_particles;
 pub mod temporal;
+pub mod texture;
 pub mod transparent;
 pub mod water;
 

@@ -29,7 +29,7 @@
 
 use glam::{UVec3, Vec3};
 
-use crate::cpu::inject::DensityTexture;
+use crate::cpu::texture::DensityTexture;
 
 /// Perlin's reference permutation of 0..255 (Perlin 2002).
 pub const NOISE_PERM: [u32; 256] = [
