@@ -3,14 +3,20 @@
 //! coloured point and spot lights, a local fog pocket, the medium and the camera paths
 //! (the main camera above the ground and one under water).
 
+mod cameras;
+mod mesh;
+
 use glam::{Mat4, Quat, Vec3};
 use volfog::cpu::ambient::AmbientSh;
 use volfog::limits::InvalidValue;
-use volfog::pipeline::cascade_projection;
 use volfog::uniforms::{
-    CloudLayer, DirectionalLight, FogLight, FogMedium, HeightFog, LocalVolume, ShadowCascades,
-    SkyAtmosphere, VolumeShape, Water,
+    CloudLayer, DirectionalLight, FogLight, FogMedium, HeightFog, LocalVolume, SkyAtmosphere,
+    VolumeShape, Water,
 };
+
+pub use cameras::{FAR, FOV_Y, NEAR, camera, fit_cascades, underwater_camera};
+use mesh::{CHECKER, EMISSIVE, PLAIN};
+pub use mesh::{Mesh, Vertex};
 
 /// Texels per side of the cloud density map.
 pub const CLOUD_MAP_SIZE: u32 = 128;
@@ -21,128 +27,6 @@ pub const POOL_MIN: Vec3 = Vec3::new(-3.5, POOL_FLOOR, -19.0);
 pub const POOL_MAX: Vec3 = Vec3::new(0.5, 0.0, -14.5);
 const POOL_FLOOR: f32 = -2.0;
 const WATER_HEIGHT: f32 = -0.15;
-
-/// Surface kinds (the `kind` vertex attribute).
-const PLAIN: f32 = 0.0;
-const CHECKER: f32 = 1.0;
-const EMISSIVE: f32 = 2.0;
-
-/// One vertex: position, normal, colour (albedo or emitted radiance) and kind.
-#[repr(C)]
-#[derive(Debug, Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
-pub struct Vertex {
-    pub position: [f32; 3],
-    pub normal: [f32; 3],
-    pub color: [f32; 3],
-    pub kind: f32,
-}
-
-impl Vertex {
-    pub const ATTRIBUTES: [wgpu::VertexAttribute; 4] = wgpu::vertex_attr_array![
-        0 => Float32x3, 1 => Float32x3, 2 => Float32x3, 3 => Float32
-    ];
-
-    pub fn layout() -> wgpu::VertexBufferLayout<'static> {
-        wgpu::VertexBufferLayout {
-            array_stride: std::mem::size_of::<Vertex>() as u64,
-            step_mode: wgpu::VertexStepMode::Vertex,
-            attributes: &Self::ATTRIBUTES,
-        }
-    }
-}
-
-/// A triangle list.
-#[derive(Debug, Default, Clone)]
-pub struct Mesh {
-    pub vertices: Vec<Vertex>,
-    pub indices: Vec<u32>,
-}
-
-impl Mesh {
-    fn push(&mut self, position: Vec3, normal: Vec3, color: Vec3, kind: f32) -> u32 {
-        self.vertices.push(Vertex {
-            position: position.to_array(),
-            normal: normal.to_array(),
-            color: color.to_array(),
-            kind,
-        });
-        self.vertices.len() as u32 - 1
-    }
-
-    /// A box of half extents `half`, rotated by `rotation` about its centre.
-    fn cuboid(&mut self, center: Vec3, half: Vec3, rotation: Quat, color: Vec3, kind: f32) {
-        for axis in 0..3 {
-            for sign in [-1.0f32, 1.0] {
-                let mut n = Vec3::ZERO;
-                n[axis] = sign;
-                let a = (axis + 1) % 3;
-                let b = (axis + 2) % 3;
-                let mut du = Vec3::ZERO;
-                du[a] = half[a];
-                let mut dv = Vec3::ZERO;
-                dv[b] = half[b];
-                let c = n * half[axis];
-                // Counter-clockwise seen from outside: (du x dv) must point along n.
-                let (du, dv) = if du.cross(dv).dot(n) > 0.0 {
-                    (du, dv)
-                } else {
-                    (dv, du)
-                };
-                let corners = [c - du - dv, c + du - dv, c + du + dv, c - du + dv];
-                let normal = rotation * n;
-                let base = self.vertices.len() as u32;
-                for p in corners {
-                    self.push(center + rotation * p, normal, color, kind);
-                }
-                self.indices.extend_from_slice(&[
-                    base,
-                    base + 1,
-                    base + 2,
-                    base,
-                    base + 2,
-                    base + 3,
-                ]);
-            }
-        }
-    }
-
-    /// An axis-aligned box from `min` to `max`.
-    fn aabb(&mut self, min: Vec3, max: Vec3, color: Vec3) {
-        self.cuboid(
-            (min + max) * 0.5,
-            (max - min) * 0.5,
-            Quat::IDENTITY,
-            color,
-            PLAIN,
-        );
-    }
-
-    /// A UV sphere.
-    fn sphere(&mut self, center: Vec3, radius: f32, color: Vec3, rings: u32, segments: u32) {
-        let base = self.vertices.len() as u32;
-        for r in 0..=rings {
-            let theta = std::f32::consts::PI * r as f32 / rings as f32;
-            for s in 0..=segments {
-                let phi = std::f32::consts::TAU * s as f32 / segments as f32;
-                let n = Vec3::new(
-                    theta.sin() * phi.cos(),
-                    theta.cos(),
-                    theta.sin() * phi.sin(),
-                );
-                self.push(center + n * radius, n, color, PLAIN);
-            }
-        }
-        let row = segments + 1;
-        for r in 0..rings {
-            for s in 0..segments {
-                let a = base + r * row + s;
-                let b = a + row;
-                self.indices
-                    .extend_from_slice(&[a, a + 1, b, a + 1, b + 1, b]);
-            }
-        }
-    }
-}
 
 /// Everything that describes the scene, for the renderer and the fog.
 #[derive(Debug, Clone)]
@@ -467,17 +351,6 @@ pub fn build() -> Result<Scene, InvalidValue> {
     })
 }
 
-/// Camera pose at `t` in [0, 1] along the path (the final frame is t = 1): a slow
-/// sideways dolly towards the colonnade, in the shadows of its pillars.
-pub fn camera(t: f32) -> (Vec3, Mat4) {
-    let eye = Vec3::new(-2.0 + 2.5 * t, 1.8 - 0.1 * t, -8.0 - 3.0 * t);
-    let target = Vec3::new(0.5, 2.8, -25.0);
-    (
-        eye,
-        glam::camera::rh::view::look_at_mat4(eye, target, Vec3::Y),
-    )
-}
-
 /// A tileable cloud density map: four octaves of tiled Perlin noise with a coverage
 /// threshold, quantised to 1/256 (exact in f16).
 pub fn cloud_map(size: u32) -> Vec<f32> {
@@ -509,71 +382,4 @@ pub fn in_pool(p: Vec3) -> bool {
         && p.z >= POOL_MIN.z - 0.01
         && p.z <= POOL_MAX.z + 0.01
         && p.y <= WATER_HEIGHT
-}
-
-/// The second camera: under water in the pool's near half, looking along it towards
-/// the far wall and up through the surface.
-pub fn underwater_camera() -> (Vec3, Mat4) {
-    let eye = Vec3::new(-1.5, -1.3, -15.0);
-    let target = Vec3::new(-1.2, -0.5, -19.0);
-    (
-        eye,
-        glam::camera::rh::view::look_at_mat4(eye, target, Vec3::Y),
-    )
-}
-
-/// Fits shadow cascades to the camera frustum: one bounding sphere per split
-/// interval, snapped to the shadow-map texel grid so the maps do not shimmer as the
-/// camera moves. Returns the cascades and the world size of a texel per cascade.
-#[allow(clippy::too_many_arguments)]
-pub fn fit_cascades(
-    world_from_view: Mat4,
-    fov_y: f32,
-    aspect: f32,
-    near: f32,
-    splits: glam::Vec4,
-    count: u32,
-    sun: Vec3,
-    map_size: u32,
-    exponent: f32,
-) -> (ShadowCascades, [f32; 4]) {
-    let tan_y = (fov_y * 0.5).tan();
-    let lateral = |depth: f32| depth * tan_y * (1.0 + aspect * aspect).sqrt();
-    // Occluders up to this height (m) must fall inside each cascade's depth range.
-    let caster_height = 12.0;
-    let reach = caster_height / sun.y.max(0.05);
-    let light_rotation = glam::camera::rh::view::look_at_mat4(sun, Vec3::ZERO, Vec3::Y);
-    let mut cascades = ShadowCascades {
-        splits,
-        count,
-        exponent,
-        ..ShadowCascades::default()
-    };
-    let mut texels = [0.0; 4];
-    let mut front = near;
-    for i in 0..count as usize {
-        let back = splits[i];
-        let (a0, a1) = (lateral(front), lateral(back));
-        // Centre on the view axis equidistant from the front and back corner rings.
-        let z = ((back * back - front * front + a1 * a1 - a0 * a0) / (2.0 * (back - front)))
-            .clamp(front, back);
-        let radius = ((z - front).powi(2) + a0 * a0)
-            .max((back - z).powi(2) + a1 * a1)
-            .sqrt();
-        // A fixed radius per cascade (rounded up) keeps the texel size constant.
-        let radius = (radius * 2.0).ceil() * 0.5;
-        let center = world_from_view.transform_point3(Vec3::new(0.0, 0.0, -z));
-        let texel = 2.0 * radius / map_size as f32;
-        let mut ls = light_rotation.transform_point3(center);
-        ls.x = (ls.x / texel).round() * texel;
-        ls.y = (ls.y / texel).round() * texel;
-        let center = light_rotation.inverse().transform_point3(ls);
-        // Shift the depth range towards the sun so casters outside the sphere count.
-        let range = 2.0 * radius + reach;
-        cascades.light_from_world[i] =
-            cascade_projection(sun, center + sun * (reach * 0.5), radius, range);
-        texels[i] = texel;
-        front = back;
-    }
-    (cascades, texels)
 }

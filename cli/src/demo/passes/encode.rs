@@ -1,0 +1,127 @@
+//! Recording the demo's passes: every shadow cascade, the lit opaque pass and sky,
+//! the semi-transparent pass fogged by the forward snippet, the tonemap.
+
+use volfog::pipeline::VolumetricFog;
+
+use super::Renderer;
+
+impl Renderer {
+    /// Renders every cascade layer of the shadow map (opaque geometry only).
+    pub fn encode_shadows(&self, encoder: &mut wgpu::CommandEncoder) {
+        let last = self.shadow_layers.len() - 1;
+        for (i, view) in self.shadow_layers.iter().enumerate() {
+            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                label: Some("demo shadow map"),
+                color_attachments: &[],
+                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                    view,
+                    depth_ops: Some(wgpu::Operations {
+                        load: wgpu::LoadOp::Clear(1.0),
+                        store: wgpu::StoreOp::Store,
+                    }),
+                    stencil_ops: None,
+                }),
+                timestamp_writes: self.render_timestamps(0, i == 0, i == last),
+                occlusion_query_set: None,
+                multiview_mask: None,
+            });
+            pass.set_pipeline(&self.shadow_pipeline);
+            pass.set_bind_group(0, &self.cascade_groups[i], &[]);
+            self.opaque.draw(&mut pass);
+        }
+    }
+
+    /// The lit opaque pass and the sky: clears colour and depth.
+    pub fn encode_opaque(&self, encoder: &mut wgpu::CommandEncoder, timed: bool) {
+        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("demo opaque"),
+            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                view: &self.hdr_view,
+                depth_slice: None,
+                resolve_target: None,
+                ops: wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(wgpu::Color::BLACK),
+                    store: wgpu::StoreOp::Store,
+                },
+            })],
+            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                view: &self.depth_view,
+                depth_ops: Some(wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(1.0),
+                    store: wgpu::StoreOp::Store,
+                }),
+                stencil_ops: None,
+            }),
+            timestamp_writes: if timed {
+                self.render_timestamps(1, true, true)
+            } else {
+                None
+            },
+            occlusion_query_set: None,
+            multiview_mask: None,
+        });
+        pass.set_pipeline(&self.opaque_pipeline);
+        pass.set_bind_group(0, &self.scene_group, &[]);
+        self.opaque.draw(&mut pass);
+        self.emissive.draw(&mut pass);
+        pass.set_pipeline(&self.sky_pipeline);
+        pass.draw(0..3, 0..1);
+    }
+
+    /// The semi-transparent sphere and the pool's water surface, fogged through the
+    /// forward snippet, blended over the fogged opaque image.
+    pub fn encode_transparent(&self, encoder: &mut wgpu::CommandEncoder, fog: &VolumetricFog) {
+        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("demo transparent"),
+            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                view: &self.hdr_view,
+                depth_slice: None,
+                resolve_target: None,
+                ops: wgpu::Operations {
+                    load: wgpu::LoadOp::Load,
+                    store: wgpu::StoreOp::Store,
+                },
+            })],
+            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                view: &self.depth_view,
+                depth_ops: Some(wgpu::Operations {
+                    load: wgpu::LoadOp::Load,
+                    store: wgpu::StoreOp::Store,
+                }),
+                stencil_ops: None,
+            }),
+            timestamp_writes: self.render_timestamps(2, true, true),
+            occlusion_query_set: None,
+            multiview_mask: None,
+        });
+        pass.set_pipeline(&self.transparent_pipeline);
+        pass.set_bind_group(0, &self.scene_group, &[]);
+        pass.set_bind_group(1, fog.fog_bind_group(), &[]);
+        self.glass.draw(&mut pass);
+        pass.set_pipeline(&self.water_pipeline);
+        self.water_surface.draw(&mut pass);
+    }
+
+    /// HDR -> sRGB display colour.
+    pub fn encode_tonemap(&self, encoder: &mut wgpu::CommandEncoder) {
+        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("demo tonemap"),
+            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                view: &self.ldr_view,
+                depth_slice: None,
+                resolve_target: None,
+                ops: wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(wgpu::Color::BLACK),
+                    store: wgpu::StoreOp::Store,
+                },
+            })],
+            depth_stencil_attachment: None,
+            timestamp_writes: self.render_timestamps(3, true, true),
+            occlusion_query_set: None,
+            multiview_mask: None,
+        });
+        pass.set_pipeline(&self.tonemap_pipeline);
+        pass.set_bind_group(0, &self.tonemap_group, &[]);
+        pass.draw(0..3, 0..1);
+    }
+}

@@ -1,0 +1,302 @@
+//! The resources of the demo's passes: render targets (HDR colour, depth, display,
+//! the cascaded shadow map), uniform buffers, bind group layouts and bind groups.
+
+use volfog::pipeline::VolumetricFog;
+use volfog::pipeline::sky::SkyLight;
+use volfog::uniforms::{self, FogLight, ShadowCascades};
+use volfog_testkit::gpu::texture_2d;
+use wgpu::util::DeviceExt;
+
+use super::uniform::SceneUniform;
+use super::{DEPTH_FORMAT, HDR_FORMAT, LDR_FORMAT};
+use crate::demo::scene::Scene;
+
+fn uniform_entry(binding: u32, visibility: wgpu::ShaderStages) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility,
+        ty: wgpu::BindingType::Buffer {
+            ty: wgpu::BufferBindingType::Uniform,
+            has_dynamic_offset: false,
+            min_binding_size: None,
+        },
+        count: None,
+    }
+}
+
+/// Targets, buffers, layouts and bind groups, before the pipelines.
+pub(super) struct Resources {
+    pub hdr: wgpu::Texture,
+    pub depth: wgpu::Texture,
+    pub ldr: wgpu::Texture,
+    pub shadow_map: wgpu::Texture,
+    pub shadow_layers: Vec<wgpu::TextureView>,
+    pub hdr_view: wgpu::TextureView,
+    pub scene_buffer: wgpu::Buffer,
+    pub cascades_buffer: wgpu::Buffer,
+    pub cascade_matrices: Vec<wgpu::Buffer>,
+    pub exposure_buffer: wgpu::Buffer,
+    pub scene_layout: wgpu::BindGroupLayout,
+    pub cascade_layout: wgpu::BindGroupLayout,
+    pub tonemap_layout: wgpu::BindGroupLayout,
+    pub scene_group: wgpu::BindGroup,
+    pub cascade_groups: Vec<wgpu::BindGroup>,
+    pub tonemap_group: wgpu::BindGroup,
+}
+
+impl Resources {
+    /// Creates the targets, buffers and bind groups for a scene, a fog pipeline and
+    /// the sky texture.
+    pub fn new(
+        device: &wgpu::Device,
+        width: u32,
+        height: u32,
+        scene: &Scene,
+        fog: &VolumetricFog,
+        sky: &SkyLight,
+    ) -> Self {
+        let config = fog.config();
+        let attachment =
+            wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING;
+        let copy = wgpu::TextureUsages::COPY_SRC | wgpu::TextureUsages::COPY_DST;
+        let hdr = texture_2d(
+            device,
+            "demo hdr",
+            (width, height),
+            HDR_FORMAT,
+            attachment | copy,
+        );
+        let depth = texture_2d(
+            device,
+            "demo depth",
+            (width, height),
+            DEPTH_FORMAT,
+            attachment | wgpu::TextureUsages::COPY_SRC,
+        );
+        let ldr = texture_2d(
+            device,
+            "demo ldr",
+            (width, height),
+            LDR_FORMAT,
+            wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
+        );
+        let shadow_size = config.esm_resolution * 4;
+        let shadow_map = device.create_texture(&wgpu::TextureDescriptor {
+            label: Some("demo shadow map"),
+            size: wgpu::Extent3d {
+                width: shadow_size,
+                height: shadow_size,
+                depth_or_array_layers: config.cascades,
+            },
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format: DEPTH_FORMAT,
+            usage: attachment,
+            view_formats: &[],
+        });
+        let shadow_layers = (0..config.cascades)
+            .map(|layer| {
+                shadow_map.create_view(&wgpu::TextureViewDescriptor {
+                    label: Some("demo shadow layer"),
+                    dimension: Some(wgpu::TextureViewDimension::D2),
+                    base_array_layer: layer,
+                    array_layer_count: Some(1),
+                    ..Default::default()
+                })
+            })
+            .collect();
+        let shadow_array = shadow_map.create_view(&wgpu::TextureViewDescriptor {
+            label: Some("demo shadow array"),
+            dimension: Some(wgpu::TextureViewDimension::D2Array),
+            aspect: wgpu::TextureAspect::DepthOnly,
+            ..Default::default()
+        });
+
+        let uniform = |label: &str, size: usize| {
+            device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some(label),
+                size: size as u64,
+                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            })
+        };
+        let scene_buffer = uniform(
+            "demo scene",
+            uniforms::to_uniform_bytes(&SceneUniform::zeroed()).len(),
+        );
+        let cascades_buffer = uniform(
+            "demo cascades",
+            uniforms::to_uniform_bytes(&ShadowCascades::default()).len(),
+        );
+        let cascade_matrices: Vec<wgpu::Buffer> = (0..config.cascades)
+            .map(|_| uniform("demo cascade matrix", 64))
+            .collect();
+        let exposure_buffer = uniform("demo exposure", 16);
+        let lights_buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("demo lights"),
+            contents: &uniforms::to_storage_bytes::<FogLight>(&scene.lights),
+            usage: wgpu::BufferUsages::STORAGE,
+        });
+        let shadow_sampler = device.create_sampler(&wgpu::SamplerDescriptor {
+            label: Some("demo shadow comparison"),
+            mag_filter: wgpu::FilterMode::Linear,
+            min_filter: wgpu::FilterMode::Linear,
+            compare: Some(wgpu::CompareFunction::LessEqual),
+            ..Default::default()
+        });
+
+        let fragment = wgpu::ShaderStages::FRAGMENT;
+        let vertex_fragment = wgpu::ShaderStages::VERTEX_FRAGMENT;
+        let scene_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("demo scene"),
+            entries: &[
+                uniform_entry(0, vertex_fragment),
+                wgpu::BindGroupLayoutEntry {
+                    binding: 1,
+                    visibility: fragment,
+                    ty: wgpu::BindingType::Buffer {
+                        ty: wgpu::BufferBindingType::Storage { read_only: true },
+                        has_dynamic_offset: false,
+                        min_binding_size: None,
+                    },
+                    count: None,
+                },
+                uniform_entry(2, fragment),
+                wgpu::BindGroupLayoutEntry {
+                    binding: 3,
+                    visibility: fragment,
+                    ty: wgpu::BindingType::Texture {
+                        sample_type: wgpu::TextureSampleType::Depth,
+                        view_dimension: wgpu::TextureViewDimension::D2Array,
+                        multisampled: false,
+                    },
+                    count: None,
+                },
+                wgpu::BindGroupLayoutEntry {
+                    binding: 4,
+                    visibility: fragment,
+                    ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Comparison),
+                    count: None,
+                },
+                wgpu::BindGroupLayoutEntry {
+                    binding: 5,
+                    visibility: fragment,
+                    ty: wgpu::BindingType::Texture {
+                        sample_type: wgpu::TextureSampleType::Float { filterable: true },
+                        view_dimension: wgpu::TextureViewDimension::D2Array,
+                        multisampled: false,
+                    },
+                    count: None,
+                },
+                wgpu::BindGroupLayoutEntry {
+                    binding: 6,
+                    visibility: fragment,
+                    ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering),
+                    count: None,
+                },
+            ],
+        });
+        let scene_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("demo scene"),
+            layout: &scene_layout,
+            entries: &[
+                wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: scene_buffer.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 1,
+                    resource: lights_buffer.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 2,
+                    resource: cascades_buffer.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 3,
+                    resource: wgpu::BindingResource::TextureView(&shadow_array),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 4,
+                    resource: wgpu::BindingResource::Sampler(&shadow_sampler),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 5,
+                    resource: wgpu::BindingResource::TextureView(sky.view()),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 6,
+                    resource: wgpu::BindingResource::Sampler(sky.sampler()),
+                },
+            ],
+        });
+        let cascade_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("demo cascade"),
+            entries: &[uniform_entry(0, wgpu::ShaderStages::VERTEX)],
+        });
+        let cascade_groups = cascade_matrices
+            .iter()
+            .map(|b| {
+                device.create_bind_group(&wgpu::BindGroupDescriptor {
+                    label: Some("demo cascade"),
+                    layout: &cascade_layout,
+                    entries: &[wgpu::BindGroupEntry {
+                        binding: 0,
+                        resource: b.as_entire_binding(),
+                    }],
+                })
+            })
+            .collect();
+        let hdr_view = hdr.create_view(&Default::default());
+        let tonemap_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("demo tonemap"),
+            entries: &[
+                wgpu::BindGroupLayoutEntry {
+                    binding: 0,
+                    visibility: fragment,
+                    ty: wgpu::BindingType::Texture {
+                        sample_type: wgpu::TextureSampleType::Float { filterable: false },
+                        view_dimension: wgpu::TextureViewDimension::D2,
+                        multisampled: false,
+                    },
+                    count: None,
+                },
+                uniform_entry(1, fragment),
+            ],
+        });
+        let tonemap_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("demo tonemap"),
+            layout: &tonemap_layout,
+            entries: &[
+                wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: wgpu::BindingResource::TextureView(&hdr_view),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 1,
+                    resource: exposure_buffer.as_entire_binding(),
+                },
+            ],
+        });
+
+        Self {
+            hdr,
+            depth,
+            ldr,
+            shadow_map,
+            shadow_layers,
+            hdr_view,
+            scene_buffer,
+            cascades_buffer,
+            cascade_matrices,
+            exposure_buffer,
+            scene_layout,
+            cascade_layout,
+            tonemap_layout,
+            scene_group,
+            cascade_groups,
+            tonemap_group,
+        }
+    }
+}
