@@ -1,0 +1,76 @@
+//! The uniform and storage buffers of [`VolumetricFog`](super::VolumetricFog): what
+//! `prepare` writes each frame's uniforms, lights and local volumes into.
+
+use super::{FogConfig, storage_buffer, uniform_buffer};
+use crate::uniforms::{
+    self, FogFrame, FogLight, FogLighting, FogMedium, FogView, Froxels, HeightFog, LocalVolume,
+    ShadowCascades,
+};
+
+/// The uniform and storage buffers of the fog.
+#[derive(Debug)]
+pub(super) struct Buffers {
+    pub(super) froxels: wgpu::Buffer,
+    pub(super) frame: wgpu::Buffer,
+    pub(super) medium: wgpu::Buffer,
+    pub(super) lighting: wgpu::Buffer,
+    pub(super) cascades: wgpu::Buffer,
+    pub(super) tail: wgpu::Buffer,
+    pub(super) view: wgpu::Buffer,
+    pub(super) lights: wgpu::Buffer,
+    pub(super) local_volumes: wgpu::Buffer,
+}
+
+impl Buffers {
+    pub(super) fn new(device: &wgpu::Device, config: &FogConfig) -> Self {
+        let uniform = |label, bytes: Vec<u8>| uniform_buffer(device, label, bytes.len());
+        let lights = uniforms::to_storage_bytes(&vec![
+            FogLight::default();
+            config.max_lights.max(1) as usize
+        ]);
+        let volumes = uniforms::to_storage_bytes(&vec![
+            LocalVolume::default();
+            config.max_local_volumes.max(1) as usize
+        ]);
+        Self {
+            froxels: uniform("volfog froxels", Froxels::default().to_bytes()),
+            frame: uniform(
+                "volfog frame",
+                uniforms::to_uniform_bytes(&FogFrame::default()),
+            ),
+            medium: uniform(
+                "volfog medium",
+                uniforms::to_uniform_bytes(&FogMedium::default()),
+            ),
+            lighting: uniform(
+                "volfog lighting",
+                uniforms::to_uniform_bytes(&FogLighting::default()),
+            ),
+            cascades: uniform(
+                "volfog cascades",
+                uniforms::to_uniform_bytes(&ShadowCascades::default()),
+            ),
+            tail: uniform("volfog tail", HeightFog::none().to_bytes()),
+            view: uniform(
+                "volfog view",
+                uniforms::to_uniform_bytes(&FogView::default()),
+            ),
+            lights: storage_buffer(device, "volfog lights", lights.len()),
+            local_volumes: storage_buffer(device, "volfog local volumes", volumes.len()),
+        }
+    }
+
+    pub(super) fn all(&self) -> [&wgpu::Buffer; 9] {
+        [
+            &self.froxels,
+            &self.frame,
+            &self.medium,
+            &self.lighting,
+            &self.cascades,
+            &self.tail,
+            &self.view,
+            &self.lights,
+            &self.local_volumes,
+        ]
+    }
+}

@@ -1,0 +1,172 @@
+//! Each frame of [`VolumetricFog`]: `prepare` checks and uploads the inputs, `encode`
+//! records the passes.
+
+use super::textures::{write_texel, write_unit_density};
+use super::{FogError, FogPass, FrameInputs, VolumetricFog};
+use crate::pipeline::cull::write_all_live;
+use crate::uniforms;
+
+impl VolumetricFog {
+    /// Checks one frame's inputs and uploads them; starts the next frame.
+    pub fn prepare(
+        &mut self,
+        queue: &wgpu::Queue,
+        inputs: &FrameInputs<'_>,
+    ) -> Result<(), FogError> {
+        let u = inputs.uniforms(&self.config, self.frames)?;
+        if inputs.cascades.count > 0 && self.shadow_map.is_none() {
+            return Err(FogError::Invalid(crate::limits::InvalidValue {
+                field: "ShadowCascades.count",
+                value: inputs.cascades.count.to_string(),
+                expected: "0 while no shadow map is set (VolumetricFog::set_shadow_map)".into(),
+            }));
+        }
+        let b = &self.buffers;
+        queue.write_buffer(&b.froxels, 0, &u.froxels.to_bytes());
+        queue.write_buffer(&b.frame, 0, &uniforms::to_uniform_bytes(&u.frame));
+        queue.write_buffer(&b.medium, 0, &uniforms::to_uniform_bytes(&u.medium));
+        queue.write_buffer(&b.lighting, 0, &uniforms::to_uniform_bytes(&u.lighting));
+        queue.write_buffer(&b.cascades, 0, &uniforms::to_uniform_bytes(&u.cascades));
+        queue.write_buffer(&b.tail, 0, &u.tail.to_bytes());
+        queue.write_buffer(&b.view, 0, &uniforms::to_uniform_bytes(&u.view));
+        if !inputs.lights.is_empty() {
+            queue.write_buffer(&b.lights, 0, &uniforms::to_storage_bytes(inputs.lights));
+        }
+        if !inputs.local_volumes.is_empty() {
+            queue.write_buffer(
+                &b.local_volumes,
+                0,
+                &uniforms::to_storage_bytes(inputs.local_volumes),
+            );
+        }
+        if let Some(density) = self.density.as_mut().filter(|d| !d.user && !d.unit_written) {
+            write_unit_density(queue, &density.texture);
+            density.unit_written = true;
+        }
+        if let Some(clouds) = self.clouds.as_mut() {
+            queue.write_buffer(&clouds.layer, 0, &inputs.clouds.to_bytes());
+            if !clouds.user && !clouds.empty_written {
+                write_texel(queue, &clouds.map, 0);
+                clouds.empty_written = true;
+            }
+        }
+        if let Some(c) = self
+            .culling
+            .as_mut()
+            .filter(|c| c.depth.is_none() && !c.all_live)
+        {
+            for texture in &c.live {
+                write_all_live(queue, texture, self.config.volume_size.z);
+            }
+            c.blocks
+                .write_all(queue, self.config.volume_size.to_array());
+            c.all_live = true;
+        }
+        if let Some(n) = self.noise.as_mut().filter(|n| !n.baked) {
+            let mut encoder = n
+                .device
+                .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                    label: Some("volfog noise_bake"),
+                });
+            n.pass.encode(&n.device, &mut encoder, &n.texture);
+            queue.submit([encoder.finish()]);
+            n.baked = true;
+        }
+        self.shadows_enabled = inputs.cascades.count > 0;
+        self.frames = self.frames.wrapping_add(1).max(1);
+        Ok(())
+    }
+
+    /// The index of the prepared frame (frames prepared before it), `None` before
+    /// the first `prepare`.
+    pub fn frame_index(&self) -> Option<u32> {
+        self.frames.checked_sub(1)
+    }
+
+    /// Records ESM downsample -> blur -> inject -> temporal -> scan for the prepared
+    /// frame.
+    pub fn encode(&self, encoder: &mut wgpu::CommandEncoder) -> Result<(), FogError> {
+        for pass in FogPass::ALL {
+            self.encode_pass(encoder, pass)?;
+        }
+        Ok(())
+    }
+
+    /// Records one pass of [`VolumetricFog::encode`], e.g. to submit and time each
+    /// pass on its own. Passes that do not run in this configuration or frame (ESM
+    /// without cascades, temporal when disabled) record nothing.
+    pub fn encode_pass(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        pass: FogPass,
+    ) -> Result<(), FogError> {
+        let index = self.frame_index().ok_or(FogError::NotPrepared)?;
+        let parity = (index % 2) as usize;
+        let c = &self.config;
+        let size = c.volume_size.to_array();
+        let label = match pass {
+            FogPass::EsmDownsample => "volfog esm_downsample",
+            FogPass::EsmBlur => "volfog esm_blur",
+            FogPass::Inject => "volfog inject",
+            FogPass::Temporal => "volfog temporal",
+            FogPass::Scan => "volfog scan",
+            FogPass::Cull => "volfog froxel_cull",
+        };
+        // With culling, inject and temporal run over the listed live blocks.
+        let indirect = self.culling.as_ref().map(|c| &c.blocks.dispatch);
+        let cull = self
+            .culling
+            .as_ref()
+            .and_then(|c| Some(&c.pass).zip(c.depth.as_ref()));
+        let shadow = self.shadow_map.as_ref().filter(|_| self.shadows_enabled);
+        let runs = match pass {
+            FogPass::EsmDownsample | FogPass::EsmBlur => shadow.is_some(),
+            FogPass::Temporal => self.temporal.is_some(),
+            FogPass::Inject | FogPass::Scan => true,
+            FogPass::Cull => cull.is_some(),
+        };
+        if !runs {
+            return Ok(());
+        }
+        let mut compute = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some(label),
+            timestamp_writes: self.timestamp_writes(pass),
+        });
+        match pass {
+            FogPass::EsmDownsample => {
+                let group = &shadow.expect("checked above").group;
+                self.esm
+                    .encode_downsample(&mut compute, group, c.esm_resolution, c.cascades);
+            }
+            FogPass::EsmBlur => {
+                for (axis, group) in self.blur_groups.iter().enumerate() {
+                    self.esm.encode_blur(
+                        &mut compute,
+                        group,
+                        axis as u32,
+                        c.esm_resolution,
+                        c.cascades,
+                    );
+                }
+            }
+            FogPass::Inject => {
+                self.inject
+                    .encode(&mut compute, &self.inject_groups[parity], size, indirect)
+            }
+            FogPass::Temporal => {
+                let t = self.temporal.as_ref().expect("checked above");
+                t.pass
+                    .encode(&mut compute, &t.groups[parity], size, indirect);
+            }
+            FogPass::Scan => {
+                self.scan
+                    .encode(&mut compute, &self.scan_groups[parity], [size[0], size[1]]);
+            }
+            FogPass::Cull => {
+                let (pass, (_, _, groups)) = cull.expect("checked above");
+                pass.encode(&mut compute, &groups[parity], size);
+            }
+        }
+        Ok(())
+    }
+}

@@ -1,0 +1,156 @@
+//! The bind groups of the fog's passes: inject, temporal and scan by frame parity
+//! (they differ in the live-slice texture and the history read), the ESM blur.
+
+use super::buffers::Buffers;
+use super::textures::{CloudShadow, Culling, Density, Noise, Temporal};
+use super::{VolumetricFog, array_view, view};
+use crate::pipeline::esm::EsmPasses;
+use crate::pipeline::inject::{InjectPass, InjectResources};
+use crate::pipeline::scan::ScanPass;
+use crate::pipeline::temporal::{TemporalPass, TemporalResources};
+
+impl VolumetricFog {
+    pub(super) fn rebuild_inject_groups(&mut self, device: &wgpu::Device) {
+        let live = |p: usize| {
+            self.culling
+                .as_ref()
+                .map(|c| (&c.views[p], &c.blocks.blocks))
+        };
+        self.inject_groups = [0, 1].map(|p| {
+            inject_bind_group(
+                device,
+                &self.inject,
+                &self.buffers,
+                &array_view(&self.esm_texture),
+                &view(&self.scattering),
+                InjectTextures {
+                    density: self.density.as_ref(),
+                    culling: live(p),
+                    noise: self.noise.as_ref(),
+                    clouds: self.clouds.as_ref(),
+                },
+            )
+        });
+    }
+}
+
+/// The temporal bind groups of both parities.
+pub(super) fn temporal_groups(
+    device: &wgpu::Device,
+    pass: &TemporalPass,
+    buffers: &Buffers,
+    scattering_view: &wgpu::TextureView,
+    volumes: &[wgpu::Texture; 2],
+    states: &[wgpu::Buffer; 2],
+    culling: Option<&Culling>,
+) -> [wgpu::BindGroup; 2] {
+    let live_view = |p: usize| culling.map(|c| &c.views[p]);
+    let live_blocks = culling.map(|c| &c.blocks.blocks);
+    let views = [view(&volumes[0]), view(&volumes[1])];
+    // Frame parity p reads history 1 - p and writes history p.
+    [0, 1].map(|p| {
+        pass.bind_group(
+            device,
+            &TemporalResources {
+                froxels: &buffers.froxels,
+                frame: &buffers.frame,
+                current: scattering_view,
+                history: &views[1 - p],
+                history_state: &states[1 - p],
+                stabilised: &views[p],
+                stabilised_state: &states[p],
+                culling: live_view(p)
+                    .zip(live_view(1 - p))
+                    .zip(live_blocks)
+                    .map(|((a, b), c)| (a, b, c)),
+            },
+        )
+        .expect("the fog binds live slices whenever it culls")
+    })
+}
+
+/// The scan bind groups of both parities.
+pub(super) fn scan_groups(
+    device: &wgpu::Device,
+    scan: &ScanPass,
+    buffers: &Buffers,
+    scattering_view: &wgpu::TextureView,
+    temporal: Option<&Temporal>,
+    integrated: Option<&wgpu::Texture>,
+    culling: Option<&Culling>,
+) -> [wgpu::BindGroup; 2] {
+    let live_view = |p: usize| culling.map(|c| &c.views[p]);
+    // Parity p scans stabilised volume p (or the scattering volume) with live
+    // slices p.
+    [0, 1].map(|p| {
+        let (input, output) = match (temporal, integrated) {
+            (Some(t), _) => (view(&t.volumes[p]), scattering_view.clone()),
+            (None, Some(out)) => (scattering_view.clone(), view(out)),
+            (None, None) => unreachable!("the integrated volume exists without temporal"),
+        };
+        scan.bind_group(device, &buffers.froxels, &input, &output, live_view(p))
+            .expect("the fog binds live slices whenever it culls")
+    })
+}
+
+/// The ESM blur bind groups: the ESM array into the scratch array, and back.
+pub(super) fn blur_groups(
+    device: &wgpu::Device,
+    esm: &EsmPasses,
+    esm_view: &wgpu::TextureView,
+    scratch_view: &wgpu::TextureView,
+) -> [wgpu::BindGroup; 2] {
+    [
+        esm.blur_bind_group(device, esm_view, scratch_view),
+        esm.blur_bind_group(device, scratch_view, esm_view),
+    ]
+}
+
+/// The optional textures an inject variant reads.
+pub(super) struct InjectTextures<'a> {
+    pub(super) density: Option<&'a Density>,
+    pub(super) culling: Option<(&'a wgpu::TextureView, &'a wgpu::Buffer)>,
+    pub(super) noise: Option<&'a Noise>,
+    pub(super) clouds: Option<&'a CloudShadow>,
+}
+
+pub(super) fn inject_bind_group(
+    device: &wgpu::Device,
+    inject: &InjectPass,
+    buffers: &Buffers,
+    esm: &wgpu::TextureView,
+    scattering: &wgpu::TextureView,
+    textures: InjectTextures<'_>,
+) -> wgpu::BindGroup {
+    let InjectTextures {
+        density,
+        culling,
+        noise,
+        clouds,
+    } = textures;
+    let density_view = density.map(|d| view(&d.texture));
+    let noise_view = noise.map(|n| view(&n.texture));
+    let cloud_view = clouds.map(|c| view(&c.map));
+    inject
+        .bind_group(
+            device,
+            &InjectResources {
+                froxels: &buffers.froxels,
+                frame: &buffers.frame,
+                medium: &buffers.medium,
+                lighting: &buffers.lighting,
+                cascades: &buffers.cascades,
+                esm,
+                lights: &buffers.lights,
+                local_volumes: &buffers.local_volumes,
+                scattering,
+                density_texture: density_view.as_ref().zip(density.map(|d| &d.sampler)),
+                culling,
+                noise_texture: noise_view.as_ref().zip(noise.map(|n| &n.sampler)),
+                cloud_shadow: clouds
+                    .zip(cloud_view.as_ref())
+                    .map(|(c, v)| (&c.layer, v, &c.sampler)),
+            },
+        )
+        .expect("the fog binds every texture its inject variant reads")
+}
