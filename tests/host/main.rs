@@ -11,6 +11,7 @@ mod compilers;
 mod constants;
 mod exports;
 mod foreign_numbers;
+mod guides;
 mod layout;
 mod snapshots;
 mod snippet_hosts;

@@ -123,7 +123,7 @@ fn file_name(path: &Path) -> String {
 }
 
 /// Pastes `#include "X"` files from `dir` in (OpenGL compiles no includes).
-fn paste_includes(text: &str, dir: &Path) -> String {
+pub(crate) fn paste_includes(text: &str, dir: &Path) -> String {
     text.lines()
         .filter(|l| !l.contains("GL_GOOGLE_include_directive"))
         .map(|l| match l.strip_prefix("#include \"") {
@@ -254,94 +254,4 @@ fn every_wgsl_snippet_makes_a_dawn_pipeline() {
         );
         assert!(failed.is_empty(), "{backend}:\n{}", failed.join("\n"));
     }
-}
-
-/// The fenced code blocks of README.md in `language`.
-fn readme_blocks(language: &str) -> Vec<String> {
-    let readme =
-        std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("README.md")).unwrap();
-    let mut blocks = Vec::new();
-    let mut current: Option<String> = None;
-    for line in readme.lines() {
-        match &mut current {
-            None if line.trim() == format!("```{language}") => current = Some(String::new()),
-            Some(block) if line.trim() == "```" => {
-                blocks.push(std::mem::take(block));
-                current = None;
-            }
-            Some(block) => {
-                block.push_str(line);
-                block.push('\n');
-            }
-            None => {}
-        }
-    }
-    blocks
-}
-
-/// The README's HLSL and GLSL snippet examples compile as written (with an empty entry
-/// point added).
-#[test]
-fn the_readme_snippet_examples_compile() {
-    let dir = scratch("readme-examples");
-    std::fs::create_dir_all(&dir).unwrap();
-    let hlsl = readme_blocks("hlsl");
-    let glsl = readme_blocks("glsl");
-    assert!(
-        !hlsl.is_empty() && !glsl.is_empty(),
-        "the README shows both"
-    );
-    for (i, block) in hlsl.iter().enumerate() {
-        let file = dir.join(format!("readme_{i}.hlsl"));
-        std::fs::write(
-            &file,
-            format!("{block}\n[numthreads(1, 1, 1)]\nvoid main() {{}}\n"),
-        )
-        .unwrap();
-        let o = output(
-            slang_check()
-                .args([
-                    "--werror", "--target", "hlsl", "--stage", "compute", "--entry", "main",
-                ])
-                .arg("-I")
-                .arg(exported().join("hlsl/include"))
-                .arg(&file),
-        );
-        assert!(o.status.success(), "README HLSL example {i}:\n{}", text(&o));
-    }
-    for (i, block) in glsl.iter().enumerate() {
-        let file = dir.join(format!("readme_{i}.frag"));
-        std::fs::write(&file, format!("{block}\nvoid main() {{}}\n")).unwrap();
-        let include = exported().join("glsl/include");
-        let o = output(
-            glslang()
-                .args(["-V", "--target-env", "vulkan1.1", "-S", "frag"])
-                .arg(format!("-I{}", include.display()))
-                .arg("-o")
-                .arg(dir.join(format!("readme_{i}.spv")))
-                .arg(&file),
-        );
-        assert!(
-            o.status.success(),
-            "README GLSL example {i} (glslang):\n{}",
-            text(&o)
-        );
-        let pasted = dir.join(format!("gl_readme_{i}.frag"));
-        std::fs::write(
-            &pasted,
-            paste_includes(&std::fs::read_to_string(&file).unwrap(), &include),
-        )
-        .unwrap();
-        let o = output(gl_link().arg(format!("frag:{}", pasted.display())));
-        assert!(
-            o.status.success(),
-            "README GLSL example {i} (Mesa):\n{}",
-            text(&o)
-        );
-    }
-    eprintln!(
-        "README examples: {} HLSL through Slang, {} GLSL through glslang and Mesa; MSL not compiled",
-        hlsl.len(),
-        glsl.len()
-    );
 }

@@ -1,0 +1,315 @@
+//! The wgpu code of the README and of `docs/wgpu.md`, run on a device: the README's
+//! `VolumetricFog` in ten lines, the guide's frame with a shadow map, depth culling, a
+//! light and the far-plane tail, and epipolar sun shafts. Each function sets up what
+//! the guide's lines take from the renderer around them (textures, camera, sun), then
+//! runs those lines as the guide shows them; the host tests check that every `rust`
+//! block of the guides appears here line for line.
+//!
+//! `cargo run --example wgpu_fog` (any Vulkan adapter, Mesa's lavapipe included;
+//! `WGPU_ADAPTER_NAME` picks one).
+
+use std::error::Error;
+
+use glam::{Mat4, Vec3};
+use volfog::pipeline::{FogConfig, cascade_projection, cascade_splits};
+use volfog::uniforms::ShadowCascades;
+use volfog_testkit::Gpu;
+
+/// The screen the guides' code renders.
+const WIDTH: u32 = 1920;
+const HEIGHT: u32 = 1080;
+
+type Result<T = ()> = std::result::Result<T, Box<dyn Error>>;
+
+fn main() -> Result {
+    let gpu = Gpu::new()?;
+    println!("adapter: {}", gpu.describe());
+    run(&gpu, "README: VolumetricFog", quick_start)?;
+    run(
+        &gpu,
+        "docs/wgpu.md: VolumetricFog with shadows, culling, a light and the tail",
+        shadowed_frame,
+    )?;
+    run(&gpu, "docs/wgpu.md: epipolar sun shafts", epipolar_shafts)?;
+    Ok(())
+}
+
+/// Runs one guide's code, waits for the GPU and fails on any validation error.
+fn run(gpu: &Gpu, what: &str, guide: fn(&Gpu) -> Result) -> Result {
+    gpu.checked(|| guide(gpu))??;
+    gpu.device.poll(wgpu::PollType::wait_indefinitely())?;
+    println!("{what}: ran");
+    Ok(())
+}
+
+/// The README's use of `VolumetricFog`.
+#[rustfmt::skip]
+fn quick_start(gpu: &Gpu) -> Result {
+    let (device, queue) = (gpu.device.clone(), gpu.queue.clone());
+    let Screen { lit_color_view, scene_depth_view, .. } = Screen::new(&device, &queue);
+    let (view_from_world, clip_from_view, time) = camera();
+
+    use volfog::pipeline::{FogConfig, FrameInputs, VolumetricFog};
+
+    let mut fog = VolumetricFog::new(&device, &FogConfig::default())?;        // 160x90x128, 4 cascades
+    let apply = fog.create_apply(&device, wgpu::TextureFormat::Rgba16Float)?;  // one per colour format
+    let depth_group = apply.depth_bind_group(&device, &scene_depth_view);     // one per depth texture
+    // every frame, once the lit colour and its depth are drawn:
+    fog.prepare(&queue, &FrameInputs::new(view_from_world, clip_from_view, time))?;
+    let mut encoder = device.create_command_encoder(&Default::default());
+    fog.encode(&mut encoder)?;
+    fog.record_apply(&mut encoder, &apply, &lit_color_view, &depth_group)?;   // colour * T + L
+    queue.submit([encoder.finish()]);
+
+    Ok(())
+}
+
+/// The wgpu guide's frame: shadows, depth culling, a point light and the tail.
+#[rustfmt::skip]
+fn shadowed_frame(gpu: &Gpu) -> Result {
+    let (device, queue) = (gpu.device.clone(), gpu.queue.clone());
+    let Screen { lit_color_view, scene_depth_texture, scene_depth_view } = Screen::new(&device, &queue);
+    let config = FogConfig::default();
+    let sun = Sun::new(&device, &queue, &config, config.esm_resolution * 4);
+    let Sun { cascades, sun_cascade_depth_array, .. } = sun;
+    let (view_from_world, clip_from_view, time) = camera();
+    let (lamp_position, fog_color) = (Vec3::new(-2.0, 2.0, -12.0), Vec3::new(0.6, 0.65, 0.7));
+    let lit_pass_descriptor = wgpu::RenderPassDescriptor {
+        label: Some("lit pass"),
+        color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+            view: &lit_color_view,
+            depth_slice: None,
+            resolve_target: None,
+            ops: wgpu::Operations { load: wgpu::LoadOp::Load, store: wgpu::StoreOp::Store },
+        })],
+        depth_stencil_attachment: None,
+        timestamp_writes: None,
+        occlusion_query_set: None,
+        multiview_mask: None,
+    };
+
+    use volfog::pipeline::{FogConfig, FrameInputs, VolumetricFog};
+    use volfog::uniforms::{FogLight, FogMedium, HeightFog};
+
+    // once:
+    let mut fog = VolumetricFog::new(&device, &FogConfig::default())?;   // 160x90x128, 4 cascades
+    fog.set_shadow_map(&device, &sun_cascade_depth_array)?;   // checked: 4 * esm_resolution, a layer per cascade
+    fog.set_scene_depth(&device, &scene_depth_texture, 0)?;   // skip froxels behind opaque surfaces
+    let apply = fog.create_apply(&device, wgpu::TextureFormat::Rgba16Float)?;  // one per colour format
+    let depth_group = apply.depth_bind_group(&device, &scene_depth_view);     // one per depth texture
+    // every frame:
+    let lights = [FogLight::point(lamp_position, glam::Vec3::new(40.0, 25.0, 10.0), 12.0)];
+    let medium = FogMedium { density: 0.03, height_falloff: 0.08, ..FogMedium::default() };
+    fog.prepare(&queue, &FrameInputs {
+        medium,
+        lights: &lights,
+        cascades,                                          // your sun's cascade matrices and splits
+        tail: HeightFog::from_medium(&medium, fog_color),  // fog continues beyond the far plane
+        ..FrameInputs::new(view_from_world, clip_from_view, time)
+    })?;
+    let mut encoder = device.create_command_encoder(&Default::default());
+    // ... lay out this frame's depth (opaque pass or depth prepass) first ...
+    fog.encode(&mut encoder)?;
+    {
+        let mut pass = encoder.begin_render_pass(&lit_pass_descriptor);  // loads the lit HDR colour
+        // ... your own draws ...
+        fog.draw_apply(&mut pass, &apply, &depth_group)?;             // colour * T + L
+    }
+    queue.submit([encoder.finish()]);
+
+    Ok(())
+}
+
+/// The wgpu guide's epipolar sun shafts, alone as a post-process.
+#[rustfmt::skip]
+fn epipolar_shafts(gpu: &Gpu) -> Result {
+    let (device, queue) = (gpu.device.clone(), gpu.queue.clone());
+    let Screen { lit_color_view, scene_depth_texture, .. } = Screen::new(&device, &queue);
+    let sun = Sun::new(&device, &queue, &FogConfig::default(), 2048);
+    let Sun { cascades, sun_cascade_depth_array, sun_direction, sun_color } = sun;
+    let (view_from_world, clip_from_view, _) = camera();
+    let fog_color = Vec3::new(0.6, 0.65, 0.7);
+    let mut encoder = device.create_command_encoder(&Default::default());
+
+    use volfog::pipeline::epipolar::{EpipolarMode, EpipolarShafts};
+    use volfog::uniforms::{EpipolarPhase, EpipolarSampling, EpipolarView, HeightFog};
+
+    let mut shafts = EpipolarShafts::new(&device, EpipolarSampling::new(1920, 1080, 2048))?;
+    shafts.set_inputs(&device, &scene_depth_texture, &sun_cascade_depth_array)?;
+    let composite = shafts.create_apply(&device, wgpu::TextureFormat::Rgba16Float)?;
+    // every frame:
+    let medium = HeightFog::new(fog_color, 0.02, glam::Vec3::Y, 0.05, 0.0)?
+        .with_sun(sun_direction, sun_color, 0.6)?;
+    shafts.prepare(&queue, &EpipolarView {
+        view_from_world, clip_from_view,
+        light_from_world: cascades.light_from_world[3], cascade: 3,   // the cascade to march in
+        rayleigh: glam::Vec3::ZERO, phase: EpipolarPhase::HenyeyGreenstein,
+        start_depth: 0.0, max_depth: 1000.0, depth_bias: 0.002,
+    }, &medium)?;
+    shafts.encode(&mut encoder, EpipolarMode::Tree)?;
+    shafts.record_apply(&mut encoder, &composite, &lit_color_view);   // colour * T + L
+
+    queue.submit([encoder.finish()]);
+    Ok(())
+}
+
+/// The camera: 60 degrees vertical, 16:9, 0.1..500 m, 2 m above the ground looking
+/// along -Z; and the time in seconds.
+fn camera() -> (Mat4, Mat4, f32) {
+    let view = glam::camera::rh::view::look_to_mat4(Vec3::new(0.0, 2.0, 0.0), -Vec3::Z, Vec3::Y);
+    let projection = glam::camera::rh::proj::directx::perspective(
+        60f32.to_radians(),
+        WIDTH as f32 / HEIGHT as f32,
+        0.1,
+        500.0,
+    );
+    (view, projection, 1.5)
+}
+
+/// The renderer's screen: the lit HDR colour and the scene depth, cleared (a grey
+/// colour, depth 1 everywhere: nothing drawn).
+struct Screen {
+    lit_color_view: wgpu::TextureView,
+    scene_depth_texture: wgpu::Texture,
+    scene_depth_view: wgpu::TextureView,
+}
+
+impl Screen {
+    fn new(device: &wgpu::Device, queue: &wgpu::Queue) -> Self {
+        let color = texture(
+            device,
+            "lit colour",
+            (WIDTH, HEIGHT, 1),
+            wgpu::TextureFormat::Rgba16Float,
+        );
+        let depth = texture(
+            device,
+            "scene depth",
+            (WIDTH, HEIGHT, 1),
+            wgpu::TextureFormat::Depth32Float,
+        );
+        let lit_color_view = color.create_view(&Default::default());
+        let scene_depth_view = depth.create_view(&wgpu::TextureViewDescriptor {
+            aspect: wgpu::TextureAspect::DepthOnly,
+            ..Default::default()
+        });
+        let mut encoder = device.create_command_encoder(&Default::default());
+        clear(&mut encoder, Some(&lit_color_view), &scene_depth_view);
+        queue.submit([encoder.finish()]);
+        Self {
+            lit_color_view,
+            scene_depth_texture: depth,
+            scene_depth_view,
+        }
+    }
+}
+
+/// The sun: its direction and colour, four cascades around the camera and their
+/// shadow map (`size` texels square, a layer per cascade, cleared to depth 1: no
+/// occluder).
+struct Sun {
+    cascades: ShadowCascades,
+    sun_cascade_depth_array: wgpu::Texture,
+    sun_direction: Vec3,
+    sun_color: Vec3,
+}
+
+impl Sun {
+    fn new(device: &wgpu::Device, queue: &wgpu::Queue, config: &FogConfig, size: u32) -> Self {
+        let sun_direction = Vec3::new(0.3, 0.5, -0.8).normalize();
+        let mut cascades = ShadowCascades {
+            splits: cascade_splits(config.cascades, config.near, config.far, 0.5),
+            count: config.cascades,
+            exponent: config.esm_exponent,
+            ..Default::default()
+        };
+        for (i, m) in cascades.light_from_world.iter_mut().enumerate() {
+            let half = 16.0 * (i as f32 + 1.0);
+            *m = cascade_projection(sun_direction, Vec3::new(0.0, 0.0, -half), half, 400.0);
+        }
+        let layers = cascades.light_from_world.len() as u32;
+        let shadow = texture(
+            device,
+            "sun cascades",
+            (size, size, layers),
+            wgpu::TextureFormat::Depth32Float,
+        );
+        let mut encoder = device.create_command_encoder(&Default::default());
+        for layer in 0..layers {
+            let view = shadow.create_view(&wgpu::TextureViewDescriptor {
+                dimension: Some(wgpu::TextureViewDimension::D2),
+                base_array_layer: layer,
+                array_layer_count: Some(1),
+                ..Default::default()
+            });
+            clear(&mut encoder, None, &view);
+        }
+        queue.submit([encoder.finish()]);
+        Self {
+            cascades,
+            sun_cascade_depth_array: shadow,
+            sun_direction,
+            sun_color: Vec3::new(8.0, 7.5, 6.5),
+        }
+    }
+}
+
+/// A 2D texture (array) that passes render to and shaders read.
+fn texture(
+    device: &wgpu::Device,
+    label: &str,
+    (width, height, layers): (u32, u32, u32),
+    format: wgpu::TextureFormat,
+) -> wgpu::Texture {
+    device.create_texture(&wgpu::TextureDescriptor {
+        label: Some(label),
+        size: wgpu::Extent3d {
+            width,
+            height,
+            depth_or_array_layers: layers,
+        },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format,
+        usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
+        view_formats: &[],
+    })
+}
+
+/// Clears a depth view to 1 and a colour view, if any, to grey.
+fn clear(
+    encoder: &mut wgpu::CommandEncoder,
+    color: Option<&wgpu::TextureView>,
+    depth: &wgpu::TextureView,
+) {
+    let grey = wgpu::Color {
+        r: 0.2,
+        g: 0.2,
+        b: 0.2,
+        a: 1.0,
+    };
+    encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+        label: Some("clear"),
+        color_attachments: &[color.map(|view| wgpu::RenderPassColorAttachment {
+            view,
+            depth_slice: None,
+            resolve_target: None,
+            ops: wgpu::Operations {
+                load: wgpu::LoadOp::Clear(grey),
+                store: wgpu::StoreOp::Store,
+            },
+        })],
+        depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+            view: depth,
+            depth_ops: Some(wgpu::Operations {
+                load: wgpu::LoadOp::Clear(1.0),
+                store: wgpu::StoreOp::Store,
+            }),
+            stencil_ops: None,
+        }),
+        timestamp_writes: None,
+        occlusion_query_set: None,
+        multiview_mask: None,
+    });
+}
