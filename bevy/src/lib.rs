@@ -1,6 +1,47 @@
 //! volfog for Bevy 0.20: froxel volumetric fog on Bevy's own wgpu device, and volfog's
 //! shader modules as a WESL package.
 //!
+//! The fog's components, built and put on entities of a plain `World` (no app, no
+//! renderer), and a gameplay query on the CPU through the camera's medium:
+//!
+//! ```
+//! use bevy::prelude::*;
+//! use volfog_bevy::volfog::cpu::height_fog::height_fog_transmittance;
+//! use volfog_bevy::volfog::{glam as vg, limits};
+//! use volfog_bevy::{FogMediumSettings, FogVolumeShape, FroxelFog, FroxelFogVolume};
+//!
+//! // A camera's fog: a denser medium than the default, froxels out to 200 m.
+//! let fog = FroxelFog {
+//!     far: 200.0,
+//!     medium: FogMediumSettings { density: 0.05, height_falloff: 0.1, ..default() },
+//!     ..default()
+//! };
+//! assert_eq!((fog.tile_size, fog.slices), (8, 128)); // 8x8-pixel froxels, 128 slices
+//!
+//! let mut world = World::new();
+//! let camera = world.spawn((Camera3d::default(), Msaa::Off, fog.clone())).id();
+//! let bank = world
+//!     .spawn(FroxelFogVolume { shape: FogVolumeShape::Ellipsoid, density: 0.2, edge: 0.5 })
+//!     .id();
+//! assert_eq!(world.get::<FroxelFog>(camera), Some(&fog));
+//! // A fog volume is placed by its transform, which it requires.
+//! assert_eq!(world.get::<Transform>(bank), Some(&Transform::IDENTITY));
+//!
+//! // The plugin checks the settings against volfog's limits when it extracts the
+//! // camera; a value out of range switches that camera's fog off with one warning.
+//! assert!(limits::MEDIUM_DENSITY.check("FroxelFog.medium.density", fog.medium.density).is_ok());
+//! assert!(limits::MEDIUM_DENSITY.check("FroxelFog.medium.density", -1.0).is_err());
+//!
+//! // Gameplay: the fraction of a lamp's light, 60 m away along the ground, that reaches
+//! // a player's eyes through the medium's height fog (its noise and volumes aside).
+//! let m = &fog.medium;
+//! let (eye, lamp) = (vg::Vec3::new(0.0, 1.7, 0.0), vg::Vec3::new(60.0, 1.7, 0.0));
+//! let (b, c, h0) = (m.density, m.height_falloff, m.base_height);
+//! let seen = height_fog_transmittance(b, c, h0, vg::Vec3::Y, eye, lamp - eye);
+//! let density_at_eye = 0.05 * (-0.1f32 * 1.7).exp();
+//! assert!((seen - (-density_at_eye * 60.0).exp()).abs() < 1e-5);
+//! ```
+//!
 //! Add [`VolumetricFogPlugin`], put [`FroxelFog`] on a `Camera3d` (with `Msaa::Off`)
 //! and, if you like, [`FroxelFogVolume`]s in the scene. The fog is lit by the first
 //! `DirectionalLight` through its shadow cascades, by every `PointLight` and

@@ -1,4 +1,38 @@
-//! volfog's shader codegen: the manifest of WGSL modules and passes, composition with
+//! volfog's shader codegen: the WGSL modules and passes of volfog, composed, validated
+//! and translated.
+//!
+//! One variant of the manifest, composed with naga_oil and validated with naga, and
+//! (feature `translate`) translated to every target language:
+//!
+//! ```
+//! use volfog_codegen::compose::{self, Defines};
+//! use volfog_codegen::manifest;
+//!
+//! // A prebuilt variant: the scan pass with froxel culling.
+//! let variant = manifest::variant("scan@FROXEL_CULL").unwrap();
+//! assert_eq!(variant.defines, ["VOLFOG_FROXEL_CULL"]);
+//! let defines = Defines::flags(variant.defines.iter().copied());
+//! let module = compose::compose_validated(variant.pass, &defines)?;
+//! assert_eq!(module.entry_points[0].name, "scan");
+//!
+//! #[cfg(feature = "translate")]
+//! {
+//!     use volfog_codegen::reflect::HlslSamplers;
+//!     use volfog_codegen::{Target, translate};
+//!
+//!     let out = translate::generate_variant(&variant, HlslSamplers::Classic)?;
+//!     let scan = &out.entries[0];
+//!     assert_eq!(scan.file_name(&out.name, Target::Hlsl), "scan@FROXEL_CULL.scan.comp.hlsl");
+//!     assert_eq!(scan.reflection.workgroup_size, Some([8, 8, 1]));
+//!     assert!(scan.hlsl.contains("RWTexture3D"));
+//!     assert!(scan.glsl.starts_with("#version 450"));
+//!     assert_eq!(scan.spirv[0], 0x0723_0203); // the SPIR-V magic number
+//!     assert!(!scan.wgsl.contains("#import"));
+//! }
+//! # Ok::<(), volfog_codegen::CodegenError>(())
+//! ```
+//!
+//! What it holds: the manifest of WGSL modules and passes, composition with
 //! naga_oil under define sets, validation with naga, reflection of bindings and
 //! struct layouts, and (feature `translate`) compaction and translation of every entry
 //! point to WGSL, SPIR-V, GLSL, HLSL and MSL plus the export of a folder with its

@@ -187,7 +187,7 @@ macro_rules! module {
         ModuleSource {
             import_path: concat!("volfog::", $stem),
             file: concat!("shaders/volfog/", $stem, ".wgsl"),
-            source: include_str!(concat!("../../shaders/volfog/", $stem, ".wgsl")),
+            source: include_str!(concat!("../shaders/volfog/", $stem, ".wgsl")),
         }
     };
 }
@@ -197,7 +197,7 @@ macro_rules! pass {
         PassSource {
             name: $stem,
             file: concat!("shaders/passes/", $stem, ".wgsl"),
-            source: include_str!(concat!("../../shaders/passes/", $stem, ".wgsl")),
+            source: include_str!(concat!("../shaders/passes/", $stem, ".wgsl")),
             axes: $axes,
             values: $values,
             usage: $usage,
