@@ -235,6 +235,23 @@ pub const WATER_SHORE_FADE: Range<f32> = Range::new(0.0, 1.0e9, "m");
 pub const HULL_DENSITY: Range<f32> = Range::new(0.0, 1.0e3, "1/m");
 /// Reference distance of a fog hull (m).
 pub const HULL_REFERENCE: Range<f32> = Range::new(0.0, 1.0e9, "m");
+/// Radiance a medium or a local volume emits per metre of path, per channel.
+pub const EMISSION: Range<f32> = Range::new(0.0, 1.0e6, "per channel (W / (sr m^3))");
+/// Texels per side of one map of the local-light ESM atlas.
+pub const LOCAL_SHADOW_RESOLUTION: Range<u32> = Range::new(8, 1024, "texels");
+/// Shadowed spot lights per frame (one atlas layer each).
+pub const MAX_SPOT_SHADOWS: u32 = 16;
+/// Capacity of the atlas for shadowed spot lights.
+pub const SPOT_SHADOWS: Range<u32> = Range::new(0, MAX_SPOT_SHADOWS, "shadowed spot lights");
+/// Shadowed point lights per frame (six atlas layers each).
+pub const MAX_POINT_SHADOWS: u32 = 8;
+/// Capacity of the atlas for shadowed point lights.
+pub const POINT_SHADOWS: Range<u32> = Range::new(0, MAX_POINT_SHADOWS, "shadowed point lights");
+/// Shadow-map texels per atlas texel along each axis (the shadow map is this many
+/// times the atlas resolution).
+pub const LOCAL_SHADOW_FACTOR: Range<u32> = Range::new(1, 16, "shadow-map texels per atlas texel");
+/// Depth bias of a local light's shadow (m).
+pub const LOCAL_SHADOW_BIAS: Range<f32> = Range::new(0.0, 1.0e3, "m");
 
 #[cfg(test)]
 mod tests {

@@ -122,6 +122,9 @@ pub struct InjectOptions {
     pub checkerboard: bool,
     /// The sun term passes the cloud layer's shadow (`VOLFOG_INJECT_CLOUD_SHADOW`).
     pub cloud_shadow: bool,
+    /// Point and spot lights with a projection pass their shadow in the local-light
+    /// ESM atlas and their cookie (`VOLFOG_INJECT_LOCAL_SHADOWS`).
+    pub local_shadows: bool,
     /// fbm octaves (`VOLFOG_INJECT_NOISE_OCTAVES`), see
     /// [`limits::NOISE_OCTAVES`](crate::limits::NOISE_OCTAVES).
     pub noise_octaves: u32,
@@ -138,6 +141,7 @@ impl Default for InjectOptions {
             depth_cull: false,
             checkerboard: false,
             cloud_shadow: false,
+            local_shadows: false,
             noise_octaves: manifest::INJECT_NOISE_OCTAVES.default,
         }
     }
@@ -161,6 +165,9 @@ impl InjectOptions {
         }
         if self.cloud_shadow {
             d.push("VOLFOG_INJECT_CLOUD_SHADOW".to_string());
+        }
+        if self.local_shadows {
+            d.push("VOLFOG_INJECT_LOCAL_SHADOWS".to_string());
         }
         if self.noise_texture {
             d.push("VOLFOG_INJECT_NOISE_TEXTURE".to_string());

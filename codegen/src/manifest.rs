@@ -246,6 +246,7 @@ pub const MODULES: &[ModuleSource] = &[
     module!("soft_particles"),
     module!("sky"),
     module!("frustum"),
+    module!("local_shadow"),
     module!("clouds"),
     module!("epipolar"),
 ];
@@ -327,6 +328,7 @@ pub const PASSES: &[PassSource] = &[
             Axis::Flag("VOLFOG_INJECT_TWO_COLOR_PHASE"),
             Axis::Flag("VOLFOG_INJECT_DENSITY_TEXTURE"),
             Axis::Flag("VOLFOG_INJECT_CLOUD_SHADOW"),
+            Axis::Flag("VOLFOG_INJECT_LOCAL_SHADOWS"),
             Axis::Together(&[
                 "VOLFOG_FROXEL_CULL",
                 "VOLFOG_INJECT_CHECKERBOARD",
@@ -337,14 +339,34 @@ pub const PASSES: &[PassSource] = &[
         usage: "Dispatch ceil(size.x / 4) x ceil(size.y / 4) x ceil(size.z / 8) workgroups \
                 (one per block of 4 x 4 x 8 froxels) after the ESM passes. The light buffer holds light_count FogLight elements \
                 (64-byte stride), the local volume buffer local_volume_count LocalVolume \
-                elements (80-byte stride); bind at least one element each. The density \
+                elements (96-byte stride); bind at least one element each. The density \
                 sampler (binding 10) and the noise sampler (binding 13) are linear with \
                 repeat addressing; binding 12 is the texture noise_bake wrote. Under \
                 VOLFOG_FROXEL_CULL binding 11 is this frame's live-slice texture \
                 (froxel_cull), bound as uint, binding 14 the live blocks, and the dispatch \
                 is indirect from froxel_cull's arguments. VOLFOG_INJECT_CHECKERBOARD \
                 needs FogFrame.checkerboard = 1 (temporal reads it), and the other \
-                variants 0."
+                variants 0. Under VOLFOG_INJECT_LOCAL_SHADOWS binding 18 is the \
+                local-light ESM atlas (r32float 2D array, after local_shadow_downsample \
+                and esm_blur), bound as unfilterable float; binding 19 the \
+                LightProjection buffer (96-byte stride, at least one element) that \
+                FogLight.projection indexes (0xffffffff: none); binding 20 the cookie \
+                array (a filterable float 2D array, at least one layer) and binding 21 \
+                its sampler, linear with clamp-to-edge addressing."
+    ),
+    pass!(
+        "local_shadow_downsample",
+        axes: &[Axis::Flag("VOLFOG_ESM_LOG_SPACE")],
+        values: &[],
+        usage: "Dispatch ceil(atlas_size / 8) x ceil(atlas_size / 8) x n workgroups for n \
+                LocalShadowSource elements (48-byte stride) at binding 0, after the \
+                lights' shadow maps are rendered and before inject. Bindings 1 and 2 are \
+                the spot lights' shadow maps and the point lights' cube maps (six layers \
+                a cube) as 2D arrays of depth, bound as unfilterable float, each the \
+                atlas size times a whole factor (bind a 1 x 1 array where there is none); \
+                binding 3 the atlas (r32float 2D array storage, write). Then run \
+                esm_blur_x from the atlas into a temporary array and esm_blur_y back over \
+                the n written layers (the layers are written from 0 up)."
     ),
     pass!(
         "noise_bake",

@@ -28,11 +28,19 @@
 //      (VOLFOG_FROXEL_CULL only)
 //  15  uniform CloudLayer; 16 texture_2d<f32>: the cloud density map (red channel);
 //  17  sampler, linear, repeat (VOLFOG_INJECT_CLOUD_SHADOW only)
+//  18  texture_2d_array<f32>: the local-light ESM atlas (R32Float, textureLoad;
+//      local_shadow_downsample and esm_blur fill it)
+//  19  storage, read: array<LightProjection>, indexed by FogLight.projection
+//  20  texture_2d_array<f32>: the spot lights' cookies (filterable float)
+//  21  sampler, linear, clamp to edge: the cookies' (18-21 VOLFOG_INJECT_LOCAL_SHADOWS
+//      only)
 // Lights and local volumes are culled per workgroup: those whose range or extent touches
 // the block's bounding sphere are gathered in workgroup memory (at most 64 lights; when
 // more than 64 local volumes touch a block, every volume is evaluated), so distant ones
 // cost nothing.
-// A froxel without extinction gets no lighting (its in-scattering is 0 whatever the light).
+// A froxel without extinction gets no lighting (its in-scattering is 0 whatever the light);
+// the emission of the medium and of the local volumes is added to rgb, so the scan
+// integrates it with the in-scattering.
 // Defines:
 //   VOLFOG_INJECT_JITTER            sample each froxel at FogFrame.jitter instead of its centre
 //   VOLFOG_INJECT_TWO_COLOR_PHASE   AC4's two-colour sun phase instead of Henyey-Greenstein
@@ -47,6 +55,11 @@
 //   VOLFOG_INJECT_CLOUD_SHADOW      the sun term also passes the cloud layer
 //                                   (volfog::clouds::cloud_shadow): the fog carries
 //                                   the clouds' moving shadows
+//   VOLFOG_INJECT_LOCAL_SHADOWS     point and spot lights with a projection
+//                                   (FogLight.projection) pass their shadow in the
+//                                   atlas and, for spot lights, their cookie
+//                                   (volfog::local_shadow); lights without one and
+//                                   blocks no such light touches cost as before
 
 #import volfog::types::{Froxels, FogFrame, FogMedium, FogLighting, ShadowCascades, FogLight, LocalVolume}
 #import volfog::froxel::{froxel_view_position, froxel_injected, froxel_block_unpack, FROXEL_BLOCK_X, FROXEL_BLOCK_Y, FROXEL_BLOCK_Z}
@@ -55,13 +68,17 @@
 #else
 #import volfog::noise::noise_animated
 #endif
-#import volfog::density::{medium_extinction, local_volume_density, local_volume_touches_sphere}
+#import volfog::density::{medium_shape, local_volume_sample, local_volume_touches_sphere}
 #import volfog::esm::{esm_cascade, esm_shadow_cascade}
 #ifdef VOLFOG_INJECT_CLOUD_SHADOW
 #import volfog::types::CloudLayer
 #import volfog::clouds::cloud_shadow
 #endif
 #import volfog::lights::{light_touches_sphere, fog_light_inscatter, sun_inscatter, sun_inscatter_two_color, ambient_inscatter}
+#ifdef VOLFOG_INJECT_LOCAL_SHADOWS
+#import volfog::types::LightProjection
+#import volfog::local_shadow::{local_shadow_visibility, light_cookie}
+#endif
 
 @group(0) @binding(0) var<uniform> froxels: Froxels;
 @group(0) @binding(1) var<uniform> frame: FogFrame;
@@ -88,6 +105,12 @@
 #ifdef VOLFOG_INJECT_NOISE_TEXTURE
 @group(0) @binding(12) var noise_texture: texture_3d<f32>;
 @group(0) @binding(13) var noise_sampler: sampler;
+#endif
+#ifdef VOLFOG_INJECT_LOCAL_SHADOWS
+@group(0) @binding(18) var local_shadow_atlas: texture_2d_array<f32>;
+@group(0) @binding(19) var<storage, read> light_projections: array<LightProjection>;
+@group(0) @binding(20) var cookies: texture_2d_array<f32>;
+@group(0) @binding(21) var cookie_sampler: sampler;
 #endif
 
 const NOISE_OCTAVES: u32 = #{VOLFOG_INJECT_NOISE_OCTAVES}u;
@@ -147,7 +170,9 @@ fn froxel_scattering(id: vec3<u32>, tile_light_count: u32, tile_volume_count: u3
 #else
     let texture_factor = 1.0;
 #endif
-    var sigma_t = medium_extinction(fog_medium, world, noise, texture_factor);
+    let shape = medium_shape(fog_medium, world, noise, texture_factor);
+    // rgb the emitted radiance per metre, a the extinction.
+    var medium = vec4<f32>(fog_medium.emission, fog_medium.density) * shape;
     // The gathered volumes, or every volume when more than TILE_VOLUMES touch the block
     // (one loop, so SIMD hardware that runs both sides of a branch pays once).
     let gathered = tile_volume_count <= TILE_VOLUMES;
@@ -155,11 +180,12 @@ fn froxel_scattering(id: vec3<u32>, tile_light_count: u32, tile_volume_count: u3
     let volume_count = select(all_volumes, tile_volume_count, gathered);
     for (var i = 0u; i < volume_count; i++) {
         let v = select(i, tile_volumes[min(i, TILE_VOLUMES - 1u)], gathered);
-        sigma_t += local_volume_density(local_volumes[v], world);
+        medium += local_volume_sample(local_volumes[v], world);
     }
-    sigma_t = max(sigma_t, 0.0);
+    let emission = max(medium.rgb, vec3<f32>(0.0));
+    let sigma_t = max(medium.a, 0.0);
     if sigma_t <= 0.0 {
-        return vec4<f32>(0.0);
+        return min(vec4<f32>(emission, 0.0), vec4<f32>(HALF_MAX));
     }
 
     // Lighting. The cascade's matrix is read from the uniform with the varying index
@@ -180,12 +206,21 @@ fn froxel_scattering(id: vec3<u32>, tile_light_count: u32, tile_volume_count: u3
 #endif
     light += ambient_inscatter(fog_lighting.ambient_r, fog_lighting.ambient_g, fog_lighting.ambient_b, view_dir, fog_medium.phase_g);
     for (var i = 0u; i < tile_light_count; i++) {
-        light += fog_light_inscatter(lights[tile_lights[i]], world, view_dir, fog_medium.phase_g);
+        let local_light = lights[tile_lights[i]];
+        var inscatter = fog_light_inscatter(local_light, world, view_dir, fog_medium.phase_g);
+#ifdef VOLFOG_INJECT_LOCAL_SHADOWS
+        if local_light.projection < arrayLength(&light_projections) {
+            let p = light_projections[local_light.projection];
+            inscatter *= local_shadow_visibility(local_shadow_atlas, p, world)
+                * light_cookie(cookies, cookie_sampler, p, world);
+        }
+#endif
+        light += inscatter;
     }
 
     // Clamped to the largest finite rgba16float value so no texel becomes Inf.
     let sigma_s = fog_medium.albedo * sigma_t;
-    return min(vec4<f32>(sigma_s * light, sigma_t), vec4<f32>(HALF_MAX));
+    return min(vec4<f32>(sigma_s * light + emission, sigma_t), vec4<f32>(HALF_MAX));
 }
 
 @compute @workgroup_size(4, 4, WORKGROUP_Z)

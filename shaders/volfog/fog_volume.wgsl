@@ -1,5 +1,5 @@
-// volfog::fog_volume — analytic box, ellipsoid and plane fog volumes, ray traced per
-// pixel.
+// volfog::fog_volume — analytic box, ellipsoid, plane, cylinder and cone fog volumes,
+// ray traced per pixel.
 //
 // Use:      #import volfog::fog_volume::{fog_volume, fog_over, FOG_NONE}
 //           var fog = FOG_NONE;
@@ -8,9 +8,11 @@
 // Defines:  none
 // Method:   the view segment from the camera (t = 0) to the shaded point (t = 1, the
 //           scene depth) is transformed into the volume's local space, where the volume
-//           is the unit box [-1, 1]^3, the unit sphere or the half-space y <= 0 (a plane
+//           is the unit box [-1, 1]^3, the unit sphere, the half-space y <= 0 (a plane
 //           volume: fog below a plane, Wenzel's special type for rivers and water
-//           areas, with the camera above or below it), and intersected there. For an
+//           areas, with the camera above or below it), the unit cylinder (radius 1
+//           around the y axis, |y| <= 1) or the unit cone (apex at y = 1, a base of
+//           radius 1 at y = -1), and intersected there. For an
 //           affine transform the ray parameters are the same in both spaces, so the
 //           clipped segment [t0, t1] is taken back to world space exactly. Start: the
 //           camera when it is inside, else the entry point; end: the exit point or the
@@ -33,6 +35,8 @@
 const FOG_VOLUME_BOX: u32 = 0u;
 const FOG_VOLUME_ELLIPSOID: u32 = 1u;
 const FOG_VOLUME_PLANE: u32 = 2u;
+const FOG_VOLUME_CYLINDER: u32 = 3u;
+const FOG_VOLUME_CONE: u32 = 4u;
 // No fog: no in-scattering, full transmittance (the start of back-to-front compositing).
 const FOG_NONE: vec4<f32> = vec4<f32>(0.0, 0.0, 0.0, 1.0);
 // Direction components below this magnitude are treated as this value (slab test).
@@ -86,6 +90,101 @@ fn ray_half_space(ro: vec3<f32>, rd: vec3<f32>) -> vec2<f32> {
     return select(vec2<f32>(t, far), vec2<f32>(-far, t), rd.y > 0.0);
 }
 
+// Line parameters (t_near, t_far) where ro + t rd lies in the slab |y| <= 1 (unbounded
+// ends are +-1e30 / s for a direction of largest component s); the caps of the
+// cylinder and the cone. Takes the direction scaled to a largest component of 1.
+fn ray_unit_slab_y(ro: vec3<f32>, d: vec3<f32>) -> vec2<f32> {
+    let far = 1e30;
+    if abs(d.y) < FOG_VOLUME_MIN_DIRECTION {
+        return select(vec2<f32>(1.0, 0.0), vec2<f32>(-far, far), abs(ro.y) <= 1.0);
+    }
+    let ta = (-1.0 - ro.y) / d.y;
+    let tb = (1.0 - ro.y) / d.y;
+    return vec2<f32>(min(ta, tb), max(ta, tb));
+}
+
+// Line parameters (t_near, t_far) where ro + t rd lies in the unit cylinder (radius 1
+// around the y axis, |y| <= 1); t_near > t_far when the line misses it. The side is
+// found from the line's closest approach to the axis (as ray_unit_sphere).
+fn ray_unit_cylinder(ro: vec3<f32>, rd: vec3<f32>) -> vec2<f32> {
+    let far = 1e30;
+    let none = vec2<f32>(1.0, 0.0);
+    let s = max(abs(rd.x), max(abs(rd.y), abs(rd.z)));
+    if s <= 1e-30 {
+        return select(none, vec2<f32>(-far, far), max(abs(ro.y), length(ro.xz)) <= 1.0);
+    }
+    let d = rd / s;
+    var side = vec2<f32>(-far, far);
+    let l = length(d.xz);
+    if l > FOG_VOLUME_MIN_DIRECTION {
+        let dn = d.xz / l;
+        let uc = -dot(ro.xz, dn);
+        let closest = clamp(ro.xz + uc * dn, vec2<f32>(-2.0), vec2<f32>(2.0));
+        let h2 = 1.0 - dot(closest, closest);
+        let h = sqrt(max(h2, 0.0));
+        side = select(none, vec2<f32>(uc - h, uc + h) / l, h2 >= 0.0);
+    } else if dot(ro.xz, ro.xz) > 1.0 {
+        side = none;
+    }
+    let caps = ray_unit_slab_y(ro, d);
+    return vec2<f32>(max(side.x, caps.x), min(side.y, caps.y)) / s;
+}
+
+// Line parameters (t_near, t_far) where ro + t rd lies in the unit cone (apex at y = 1,
+// a base of radius 1 at y = -1: 4 |xz|^2 <= (1 - y)^2 and |y| <= 1); t_near > t_far
+// when the line misses it. The quadratic 4 |xz(u)|^2 - (1 - y(u))^2 = a u^2 + b u + c
+// is solved in its stable form; of the double cone it bounds, the nappe below the
+// apex is kept.
+fn ray_unit_cone(ro: vec3<f32>, rd: vec3<f32>) -> vec2<f32> {
+    let far = 1e30;
+    let none = vec2<f32>(1.0, 0.0);
+    let s = max(abs(rd.x), max(abs(rd.y), abs(rd.z)));
+    if s <= 1e-30 {
+        let inside = max(abs(ro.y), length(ro.xz) + 0.5 * (ro.y + 1.0)) <= 1.0;
+        return select(none, vec2<f32>(-far, far), inside);
+    }
+    let d = rd / s;
+    let k0 = 1.0 - ro.y;
+    let a = 4.0 * dot(d.xz, d.xz) - d.y * d.y;
+    let b = 8.0 * dot(ro.xz, d.xz) + 2.0 * k0 * d.y;
+    let c = 4.0 * dot(ro.xz, ro.xz) - k0 * k0;
+    var side = none;
+    if abs(a) < 1e-6 {
+        // Parallel to a line of the cone's side: b u + c <= 0 on a half-line.
+        if abs(b) < 1e-12 {
+            side = select(none, vec2<f32>(-far, far), c <= 0.0);
+        } else {
+            let u = -c / b;
+            side = select(vec2<f32>(-far, u), vec2<f32>(u, far), b < 0.0);
+        }
+    } else {
+        let disc = b * b - 4.0 * a * c;
+        // A line steeper than the side (a < 0) crosses both nappes; rounding may put
+        // one through the apex just below 0.
+        if disc >= 0.0 || a < 0.0 {
+            let q = -0.5 * (b + select(-1.0, 1.0, b >= 0.0) * sqrt(max(disc, 0.0)));
+            var u1 = 0.0;
+            var u2 = 0.0;
+            if q != 0.0 {
+                u1 = q / a;
+                u2 = c / q;
+            }
+            let lo = min(u1, u2);
+            let hi = max(u1, u2);
+            if a > 0.0 {
+                // Inside between the roots, on one nappe: the lower one if the middle
+                // lies below the apex.
+                side = select(none, vec2<f32>(lo, hi), k0 - 0.5 * (lo + hi) * d.y >= 0.0);
+            } else {
+                // Inside outside the roots: the half-line below the apex.
+                side = select(vec2<f32>(hi, far), vec2<f32>(-far, lo), d.y > 0.0);
+            }
+        }
+    }
+    let caps = ray_unit_slab_y(ro, d);
+    return vec2<f32>(max(side.x, caps.x), min(side.y, caps.y)) / s;
+}
+
 // Ray parameters [t0, t1] within [0, 1] of the part of the segment from camera_pos
 // (t = 0) to point (t = 1) inside the volume (world space, m); t0 == t1 when the
 // segment misses it. t0 = 0 when the camera is inside, t1 = 1 when the point is.
@@ -100,6 +199,10 @@ fn fog_volume_entry_exit(volume: FogVolume, camera_pos: vec3<f32>, point: vec3<f
         t = ray_unit_sphere(ro, rd);
     } else if volume.shape == FOG_VOLUME_PLANE {
         t = ray_half_space(ro, rd);
+    } else if volume.shape == FOG_VOLUME_CYLINDER {
+        t = ray_unit_cylinder(ro, rd);
+    } else if volume.shape == FOG_VOLUME_CONE {
+        t = ray_unit_cone(ro, rd);
     } else {
         t = ray_unit_box(ro, rd);
     }

@@ -48,12 +48,19 @@ fn frustum_vertex(rays: FrustumRays, index: u32) -> FrustumVertex {
     return v;
 }
 
+// View depth (m, positive in front of the camera) of a depth value d given the depth
+// terms t of a perspective projection: -(t.x d + t.y) / (t.z d + t.w), the depth rows
+// of the inverse projection (FrustumRays.depth_terms); at most 1e30 (a point at
+// infinity).
+fn frustum_depth_from_terms(t: vec4<f32>, d: f32) -> f32 {
+    let w = t.z * d + t.w;
+    return min(-(t.x * d + t.y) / select(w, 1e-30, abs(w) < 1e-30), 1e30);
+}
+
 // View depth (m, positive in front of the camera) of a depth-buffer value; at most
 // 1e30 (a point at infinity).
 fn frustum_view_depth(rays: FrustumRays, depth: f32) -> f32 {
-    let t = rays.depth_terms;
-    let w = t.z * depth + t.w;
-    return min(-(t.x * depth + t.y) / select(w, 1e-30, abs(w) < 1e-30), 1e30);
+    return frustum_depth_from_terms(rays.depth_terms, depth);
 }
 
 // Is a pixel at this view depth the sky (at or beyond the far plane)?

@@ -92,18 +92,29 @@ struct FogMedium {
     phase_g: f32,
     // Number of local volumes in the local volume buffer.
     local_volume_count: u32,
+    // Radiance the medium emits per metre of path (linear rgb, W / (sr m^3)) where its
+    // extinction equals density; it follows the extinction's shape (height profile,
+    // noise, density texture) and is integrated by the scan with the in-scattering.
+    // [0, 1e6]; 0 for a medium that only scatters.
+    emission: vec3<f32>,
 }
 
 // A local fog volume added to (or, with negative density, removed from) the medium:
-// a box or ellipsoid with an arbitrary transform and a soft edge.
+// a box, ellipsoid, cylinder or cone with an arbitrary transform and a soft edge, which
+// may glow.
 struct LocalVolume {
-    // World -> unit shape space: the box [-1, 1]^3 or the unit sphere.
+    // World -> unit shape space: the box [-1, 1]^3, the unit sphere, the cylinder of
+    // radius 1 around the y axis for |y| <= 1, or the cone with its apex at y = 1 and a
+    // base of radius 1 at y = -1 (see volfog::density::local_volume_weight).
     local_from_world: mat4x4<f32>,
+    // Radiance emitted per metre of path inside (linear rgb, W / (sr m^3)), faded with
+    // the edge like the density, [0, 1e6].
+    emission: vec3<f32>,
     // Extinction added inside (1/m); negative values clear fog (e.g. indoors).
     density: f32,
     // Width of the edge falloff as a fraction of the unit extent, (0, 1].
     edge: f32,
-    // 0 box, 1 ellipsoid.
+    // 0 box, 1 ellipsoid, 3 cylinder, 4 cone (the codes of FogVolume.shape).
     shape: u32,
 }
 
@@ -139,6 +150,55 @@ struct FogLight {
     cos_outer: f32,
     // Cosine of the spot's inner half-angle (full intensity inside), >= cos_outer.
     cos_inner: f32,
+    // Index of the light's LightProjection (its shadow and cookie) in the projection
+    // buffer of inject@INJECT_LOCAL_SHADOWS, or 0xffffffff (LOCAL_SHADOW_NONE): none.
+    projection: u32,
+}
+
+// The projection of a point or spot light (volfog::local_shadow): its exponential
+// shadow map in the local-light ESM atlas and, for a spot light, its cookie.
+struct LightProjection {
+    // World -> light space. A spot light: the clip space of its shadow camera (a
+    // perspective projection times its view; x, y and w are used, w being the depth
+    // along the spot's axis in m). A point light: the space of its cube shadow map
+    // (rigid; the light at the origin, the axes those of the cube's faces).
+    light_from_world: mat4x4<f32>,
+    // Distance (m) the atlas's linear depths are divided by (the shadow's far plane),
+    // > 0: depths along the light's axis (spot) or the face's axis (point) in
+    // [0, depth_range] map to [0, 1].
+    depth_range: f32,
+    // ESM exponent applied to linear depths in [0, 1]; <= 88 unless the atlas holds
+    // log-space values (VOLFOG_ESM_LOG_SPACE).
+    exponent: f32,
+    // Receivers are tested this far (m) nearer the light, >= 0 (against acne where
+    // the medium meets the shadow caster).
+    bias: f32,
+    // 0 spot light (one atlas layer), 1 point light (six layers: the cube's faces
+    // +X, -X, +Y, -Y, +Z, -Z).
+    kind: u32,
+    // The light's first atlas layer, or 0xffffffff (LOCAL_SHADOW_NONE): unshadowed.
+    layer: u32,
+    // Layer of the cookie array that a spot light projects, or 0xffffffff: none.
+    cookie: u32,
+}
+
+// One map of the local-light ESM atlas, filled from a shadow depth map by the
+// local_shadow_downsample pass.
+struct LocalShadowSource {
+    // View depth (m) of a depth value d: -(x d + y) / (z d + w), the depth rows of the
+    // inverse of the shadow camera's projection (standard, reversed or infinite depth).
+    depth_terms: vec4<f32>,
+    // Distance (m) the linear depth is divided by, > 0 (LightProjection.depth_range).
+    depth_range: f32,
+    // ESM exponent (LightProjection.exponent).
+    exponent: f32,
+    // Layer of the source depth array to read.
+    source_layer: u32,
+    // Atlas layer to write.
+    atlas_layer: u32,
+    // Which depth array: 0 the spot lights' shadow maps, 1 the point lights' cube maps
+    // (six layers a cube).
+    source: u32,
 }
 
 // Lighting of the medium: the sun, ambient light as L1 SH and the local light count.
@@ -198,9 +258,9 @@ struct HeightFog {
 }
 
 // An analytic fog volume (Wenzel 2007, "Fog Volumes"; volfog::fog_volume): the unit box
-// [-1, 1]^3 (shape 0), the unit sphere (shape 1) or the half-space y <= 0 below a plane
-// (shape 2) in local space, ray traced per pixel
-// and filled with exponential-gradient fog
+// [-1, 1]^3 (shape 0), the unit sphere (shape 1), the half-space y <= 0 below a plane
+// (shape 2), the unit cylinder (3) or the unit cone (4) in local space, ray traced per
+// pixel and filled with exponential-gradient fog
 // f(p) = density * exp(-falloff * (dot(p - center, gradient) - offset)), lit by a
 // constant radiance.
 struct FogVolume {
@@ -218,7 +278,9 @@ struct FogVolume {
     center: vec3<f32>,
     // Offset (m) of the reference plane from center along gradient.
     offset: f32,
-    // 0 box, 1 ellipsoid, 2 plane (any other value is treated as a box).
+    // 0 box, 1 ellipsoid, 2 plane, 3 cylinder (radius 1 around the y axis, |y| <= 1),
+    // 4 cone (apex at y = 1, base of radius 1 at y = -1); any other value is treated as
+    // a box.
     shape: u32,
 }
 

@@ -1,4 +1,4 @@
-//! Mirror of `volfog::density`: extinction of the medium at a point.
+//! Mirror of `volfog::density`: extinction and emission of the medium at a point.
 //!
 //! ```
 //! use volfog::cpu::density::height_density;
@@ -7,7 +7,7 @@
 //! assert!((height_density(2.0, 0.1, 0.5, 0.0) - 0.1 / std::f32::consts::E).abs() < 1e-7);
 //! ```
 
-use glam::Vec3;
+use glam::{Vec2, Vec3, Vec4};
 
 use crate::uniforms::{FogMedium, LocalVolume};
 
@@ -21,20 +21,45 @@ pub fn height_density(h: f32, b: f32, c: f32, h0: f32) -> f32 {
         .exp()
 }
 
-/// Soft membership of a point in unit shape space (0 box, 1 ellipsoid).
+/// `LocalVolume.shape` of a box (WGSL `LOCAL_VOLUME_BOX`).
+pub const LOCAL_VOLUME_BOX: u32 = 0;
+/// `LocalVolume.shape` of an ellipsoid (WGSL `LOCAL_VOLUME_ELLIPSOID`).
+pub const LOCAL_VOLUME_ELLIPSOID: u32 = 1;
+/// `LocalVolume.shape` of a cylinder (WGSL `LOCAL_VOLUME_CYLINDER`).
+pub const LOCAL_VOLUME_CYLINDER: u32 = 3;
+/// `LocalVolume.shape` of a cone (WGSL `LOCAL_VOLUME_CONE`).
+pub const LOCAL_VOLUME_CONE: u32 = 4;
+
+/// Distance-like measure of a point in unit shape space: below 1 inside, 1 on the
+/// surface (box, sphere, cylinder around y with |y| <= 1, cone with its apex at y = 1).
+pub fn local_volume_measure(local: Vec3, shape: u32) -> f32 {
+    let a = local.abs();
+    let radial = Vec2::new(local.x, local.z).length();
+    match shape {
+        LOCAL_VOLUME_ELLIPSOID => local.length(),
+        LOCAL_VOLUME_CYLINDER => a.y.max(radial),
+        LOCAL_VOLUME_CONE => a.y.max(radial + 0.5 * (local.y + 1.0)),
+        _ => a.max_element(),
+    }
+}
+
+/// Soft membership of a point in unit shape space (see [`local_volume_measure`]).
 pub fn local_volume_weight(local: Vec3, shape: u32, edge: f32) -> f32 {
-    let d = if shape == 0 {
-        local.abs().max_element()
-    } else {
-        local.length()
-    };
-    ((1.0 - d) / edge.max(1e-4)).clamp(0.0, 1.0)
+    ((1.0 - local_volume_measure(local, shape)) / edge.max(1e-4)).clamp(0.0, 1.0)
 }
 
 /// Extinction a local volume adds at a world position.
 pub fn local_volume_density(volume: &LocalVolume, world: Vec3) -> f32 {
     let local = volume.local_from_world.transform_point3(world);
     volume.density * local_volume_weight(local, volume.shape, volume.edge)
+}
+
+/// What a local volume adds at a world position: rgb the emission per metre, a the
+/// extinction.
+pub fn local_volume_sample(volume: &LocalVolume, world: Vec3) -> Vec4 {
+    let local = volume.local_from_world.transform_point3(world);
+    let w = local_volume_weight(local, volume.shape, volume.edge);
+    volume.emission.extend(volume.density) * w
 }
 
 /// Whether a local volume can add extinction anywhere in the world-space sphere
@@ -50,10 +75,16 @@ pub fn local_volume_touches_sphere(volume: &LocalVolume, center: Vec3, radius: f
     outside.length() <= radius * scale
 }
 
-/// Global extinction at a world position for a noise value and texture factor.
-pub fn medium_extinction(medium: &FogMedium, world: Vec3, noise: f32, texture_factor: f32) -> f32 {
+/// The medium's shape factor at a world position (height profile times noise
+/// modulation times texture factor), which scales its density and its emission.
+pub fn medium_shape(medium: &FogMedium, world: Vec3, noise: f32, texture_factor: f32) -> f32 {
     let h = world.dot(medium.up);
-    let profile = height_density(h, medium.density, medium.height_falloff, medium.base_height);
+    let profile = height_density(h, 1.0, medium.height_falloff, medium.base_height);
     let modulation = (1.0 + medium.noise_strength * noise).max(0.0);
     profile * modulation * texture_factor.max(0.0)
+}
+
+/// Global extinction at a world position for a noise value and texture factor.
+pub fn medium_extinction(medium: &FogMedium, world: Vec3, noise: f32, texture_factor: f32) -> f32 {
+    medium.density * medium_shape(medium, world, noise, texture_factor)
 }

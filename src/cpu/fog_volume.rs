@@ -1,5 +1,6 @@
-//! Mirror of `volfog::fog_volume`: analytic box, ellipsoid and plane fog volumes (Wenzel
-//! 2007, "Fog Volumes"), ray traced in local space and integrated in closed form.
+//! Mirror of `volfog::fog_volume`: analytic box, ellipsoid, plane, cylinder and cone fog
+//! volumes (Wenzel 2007, "Fog Volumes"), ray traced in local space and integrated in
+//! closed form.
 //!
 //! ```
 //! use glam::{Mat4, Vec3};
@@ -39,6 +40,10 @@ pub const FOG_VOLUME_BOX: u32 = 0;
 pub const FOG_VOLUME_ELLIPSOID: u32 = 1;
 /// Shape code of a plane volume, fog below a plane (`FogVolume.shape`).
 pub const FOG_VOLUME_PLANE: u32 = 2;
+/// Shape code of a cylinder (`FogVolume.shape`).
+pub const FOG_VOLUME_CYLINDER: u32 = 3;
+/// Shape code of a cone (`FogVolume.shape`).
+pub const FOG_VOLUME_CONE: u32 = 4;
 /// No fog: no in-scattering, transmittance 1.
 pub const FOG_NONE: Vec4 = Vec4::new(0.0, 0.0, 0.0, 1.0);
 /// Direction components below this magnitude are replaced by it in the slab test.
@@ -99,6 +104,116 @@ pub fn ray_half_space(ro: Vec3, rd: Vec3) -> Vec2 {
     }
 }
 
+/// Line parameters of `ro + t d` in the slab `|y| <= 1` (the caps of the cylinder and
+/// the cone); `d` scaled to a largest component of 1.
+pub fn ray_unit_slab_y(ro: Vec3, d: Vec3) -> Vec2 {
+    let far = 1e30;
+    if d.y.abs() < FOG_VOLUME_MIN_DIRECTION {
+        return if ro.y.abs() <= 1.0 {
+            Vec2::new(-far, far)
+        } else {
+            Vec2::new(1.0, 0.0)
+        };
+    }
+    let ta = (-1.0 - ro.y) / d.y;
+    let tb = (1.0 - ro.y) / d.y;
+    Vec2::new(ta.min(tb), ta.max(tb))
+}
+
+fn xz(v: Vec3) -> Vec2 {
+    Vec2::new(v.x, v.z)
+}
+
+/// Line parameters `(t_near, t_far)` of `ro + t rd` through the unit cylinder (radius 1
+/// around the y axis, `|y| <= 1`); `t_near > t_far` on a miss.
+pub fn ray_unit_cylinder(ro: Vec3, rd: Vec3) -> Vec2 {
+    let far = 1e30;
+    let none = Vec2::new(1.0, 0.0);
+    let s = rd.x.abs().max(rd.y.abs().max(rd.z.abs()));
+    if s <= 1e-30 {
+        return if ro.y.abs().max(xz(ro).length()) <= 1.0 {
+            Vec2::new(-far, far)
+        } else {
+            none
+        };
+    }
+    let d = rd / s;
+    let mut side = Vec2::new(-far, far);
+    let l = xz(d).length();
+    if l > FOG_VOLUME_MIN_DIRECTION {
+        let dn = xz(d) / l;
+        let uc = -xz(ro).dot(dn);
+        let closest = (xz(ro) + uc * dn).clamp(Vec2::splat(-2.0), Vec2::splat(2.0));
+        let h2 = 1.0 - closest.dot(closest);
+        let h = h2.max(0.0).sqrt();
+        side = if h2 >= 0.0 {
+            Vec2::new(uc - h, uc + h) / l
+        } else {
+            none
+        };
+    } else if xz(ro).dot(xz(ro)) > 1.0 {
+        side = none;
+    }
+    let caps = ray_unit_slab_y(ro, d);
+    Vec2::new(side.x.max(caps.x), side.y.min(caps.y)) / s
+}
+
+/// Line parameters `(t_near, t_far)` of `ro + t rd` through the unit cone (apex at
+/// `y = 1`, a base of radius 1 at `y = -1`); `t_near > t_far` on a miss.
+pub fn ray_unit_cone(ro: Vec3, rd: Vec3) -> Vec2 {
+    let far = 1e30;
+    let none = Vec2::new(1.0, 0.0);
+    let s = rd.x.abs().max(rd.y.abs().max(rd.z.abs()));
+    if s <= 1e-30 {
+        let inside = ro.y.abs().max(xz(ro).length() + 0.5 * (ro.y + 1.0)) <= 1.0;
+        return if inside { Vec2::new(-far, far) } else { none };
+    }
+    let d = rd / s;
+    let k0 = 1.0 - ro.y;
+    let a = 4.0 * xz(d).dot(xz(d)) - d.y * d.y;
+    let b = 8.0 * xz(ro).dot(xz(d)) + 2.0 * k0 * d.y;
+    let c = 4.0 * xz(ro).dot(xz(ro)) - k0 * k0;
+    let mut side = none;
+    if a.abs() < 1e-6 {
+        if b.abs() < 1e-12 {
+            side = if c <= 0.0 { Vec2::new(-far, far) } else { none };
+        } else {
+            let u = -c / b;
+            side = if b < 0.0 {
+                Vec2::new(u, far)
+            } else {
+                Vec2::new(-far, u)
+            };
+        }
+    } else {
+        let disc = b * b - 4.0 * a * c;
+        if disc >= 0.0 || a < 0.0 {
+            let sign = if b >= 0.0 { 1.0 } else { -1.0 };
+            let q = -0.5 * (b + sign * disc.max(0.0).sqrt());
+            let (mut u1, mut u2) = (0.0, 0.0);
+            if q != 0.0 {
+                u1 = q / a;
+                u2 = c / q;
+            }
+            let lo = u1.min(u2);
+            let hi = u1.max(u2);
+            side = if a > 0.0 {
+                if k0 - 0.5 * (lo + hi) * d.y >= 0.0 {
+                    Vec2::new(lo, hi)
+                } else {
+                    none
+                }
+            } else if d.y > 0.0 {
+                Vec2::new(-far, lo)
+            } else {
+                Vec2::new(hi, far)
+            };
+        }
+    }
+    let caps = ray_unit_slab_y(ro, d);
+    Vec2::new(side.x.max(caps.x), side.y.min(caps.y)) / s
+}
+
 fn clamped_segment(camera_pos: Vec3, point: Vec3) -> (Vec3, Vec3) {
     let lim = Vec3::splat(FOG_POSITION_LIMIT);
     let eye = camera_pos.clamp(-lim, lim);
@@ -116,6 +231,10 @@ pub fn fog_volume_entry_exit(volume: &FogVolume, camera_pos: Vec3, point: Vec3) 
         ray_unit_sphere(ro, rd)
     } else if volume.shape == FOG_VOLUME_PLANE {
         ray_half_space(ro, rd)
+    } else if volume.shape == FOG_VOLUME_CYLINDER {
+        ray_unit_cylinder(ro, rd)
+    } else if volume.shape == FOG_VOLUME_CONE {
+        ray_unit_cone(ro, rd)
     } else {
         ray_unit_box(ro, rd)
     };
@@ -181,4 +300,81 @@ pub fn fog_volumes_along(volumes: &[FogVolume], camera_pos: Vec3, point: Vec3) -
     hits.into_iter().fold(FOG_NONE, |acc, (_, v)| {
         fog_over(fog_volume(v, camera_pos, point), acc)
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::cpu::density::{LOCAL_VOLUME_CONE, LOCAL_VOLUME_CYLINDER, local_volume_measure};
+
+    /// The chord of each shape against the membership measure of `volfog::density`
+    /// sampled along the line (100,000 steps): the two describe the same solid.
+    #[test]
+    fn cylinder_and_cone_chords_match_the_local_volume_shapes() {
+        let mut rng = crate::cpu::TestRng(11);
+        let cases = [
+            (
+                FOG_VOLUME_CYLINDER,
+                LOCAL_VOLUME_CYLINDER,
+                ray_unit_cylinder as fn(Vec3, Vec3) -> Vec2,
+            ),
+            (FOG_VOLUME_CONE, LOCAL_VOLUME_CONE, ray_unit_cone),
+        ];
+        for (name, shape, chord) in cases {
+            let (mut hits, mut worst) = (0, 0.0f32);
+            for _ in 0..300 {
+                let ro = rng.vec(-3.0, 3.0);
+                // Lines through a random point near the shape, some of them steep.
+                let target = rng.vec(-1.1, 1.1);
+                let rd = (target - ro) * rng.range(0.2, 3.0);
+                let t = chord(ro, rd);
+                let steps = 100_000;
+                let (t_lo, t_hi) = (-2.0f32, 3.0f32);
+                let dt = (t_hi - t_lo) / steps as f32;
+                let inside: Vec<f32> = (0..steps)
+                    .map(|i| t_lo + (i as f32 + 0.5) * dt)
+                    .filter(|&t| local_volume_measure(ro + t * rd, shape) <= 1.0)
+                    .collect();
+                let sampled = inside.len() as f32 * dt;
+                let analytic = (t.y.min(t_hi) - t.x.max(t_lo)).max(0.0);
+                let err = (sampled - analytic).abs();
+                worst = worst.max(err);
+                assert!(err <= 3.0 * dt, "shape {name}: {ro} {rd}: {sampled} vs {t}");
+                if let (Some(first), Some(last)) = (inside.first(), inside.last()) {
+                    hits += 1;
+                    let (enter, leave) = (t.x.max(t_lo), t.y.min(t_hi));
+                    assert!((first - enter).abs() <= 2.0 * dt && (last - leave).abs() <= 2.0 * dt);
+                }
+            }
+            assert!(hits > 100, "shape {name}: {hits} lines hit");
+            eprintln!("shape {name}: {hits} of 300 lines hit, chord error <= {worst:.2e}");
+        }
+    }
+
+    /// Closed-form chords: along and across the axis, through the cone's side.
+    #[test]
+    fn cylinder_and_cone_chords_in_closed_form() {
+        let t = ray_unit_cylinder(Vec3::new(-5.0, 0.3, 0.0), Vec3::X);
+        assert!((t - Vec2::new(4.0, 6.0)).abs().max_element() < 1e-6);
+        let t = ray_unit_cylinder(Vec3::new(0.5, -4.0, 0.0), Vec3::new(0.0, 2.0, 0.0));
+        assert!((t - Vec2::new(1.5, 2.5)).abs().max_element() < 1e-6);
+        assert!({
+            let t = ray_unit_cylinder(Vec3::new(-5.0, 1.5, 0.0), Vec3::X);
+            t.x > t.y
+        });
+        // Across the cone at height y the chord through the axis is 2 r(y) = 1 - y.
+        for y in [-0.9f32, -0.5, 0.0, 0.6] {
+            let t = ray_unit_cone(Vec3::new(-4.0, y, 0.0), Vec3::X);
+            assert!(((t.y - t.x) - (1.0 - y)).abs() < 1e-5, "{y}: {t}");
+        }
+        // Up the axis: from the base (y = -1) to the apex (y = 1).
+        let t = ray_unit_cone(Vec3::new(0.0, -3.0, 0.0), Vec3::Y);
+        assert!((t - Vec2::new(2.0, 4.0)).abs().max_element() < 1e-5);
+        // Down a line steeper than the side from above the apex: it enters at the apex.
+        let t = ray_unit_cone(Vec3::new(0.05, 3.0, 0.0), Vec3::new(0.0, -1.0, 0.0));
+        assert!(
+            (t.x - (2.0 + 0.1)).abs() < 1e-5 && (t.y - 4.0).abs() < 1e-5,
+            "{t}"
+        );
+    }
 }

@@ -37,12 +37,17 @@ pub fn frustum_vertex(rays: &FrustumRays, index: u32) -> (Vec4, Vec3) {
     (clip, frustum_ray(rays, uv))
 }
 
-/// View depth (m) of a depth-buffer value; at most 1e30.
-pub fn frustum_view_depth(rays: &FrustumRays, depth: f32) -> f32 {
-    let t = rays.depth_terms;
+/// View depth (m) of a depth value given a projection's depth terms
+/// (`-(t.x d + t.y) / (t.z d + t.w)`); at most 1e30.
+pub fn frustum_depth_from_terms(t: Vec4, depth: f32) -> f32 {
     let w = t.z * depth + t.w;
     let w = if w.abs() < 1e-30 { 1e-30 } else { w };
     (-(t.x * depth + t.y) / w).min(1e30)
+}
+
+/// View depth (m) of a depth-buffer value; at most 1e30.
+pub fn frustum_view_depth(rays: &FrustumRays, depth: f32) -> f32 {
+    frustum_depth_from_terms(rays.depth_terms, depth)
 }
 
 /// Is a pixel at this view depth the sky (at or beyond the far plane)?

@@ -5,17 +5,19 @@
 use glam::{UVec3, Vec3, Vec4};
 
 use super::clouds::{CloudMap, cloud_shadow};
-use super::density::{local_volume_density, medium_extinction};
+use super::density::{local_volume_sample, medium_shape};
 use super::esm::{Layer, esm_shadow};
 use super::froxel::froxel_view_position;
 use super::lights::{
     ambient_inscatter, fog_light_inscatter, sun_inscatter, sun_inscatter_two_color,
 };
+use super::local_shadow::{ColorLayer, light_cookie, local_shadow_visibility};
 use super::noise::{noise_animated, noise_animated_texture};
 pub use super::texture::DensityTexture;
 use crate::options::InjectOptions;
 use crate::uniforms::{
-    CloudLayer, FogFrame, FogLight, FogLighting, FogMedium, Froxels, LocalVolume, ShadowCascades,
+    CloudLayer, FogFrame, FogLight, FogLighting, FogMedium, Froxels, LightProjection, LocalVolume,
+    ShadowCascades,
 };
 
 /// Everything the inject pass reads.
@@ -48,6 +50,21 @@ pub struct InjectInputs<'a> {
     /// The cloud layer and its map (`VOLFOG_INJECT_CLOUD_SHADOW`); `None` casts no
     /// shadow.
     pub clouds: Option<(&'a CloudMap, &'a CloudLayer)>,
+    /// The lights' projections, the local-light ESM atlas and the cookies
+    /// (`VOLFOG_INJECT_LOCAL_SHADOWS`); `None` lights every point and spot light
+    /// unshadowed.
+    pub local_shadows: Option<LocalShadowInputs<'a>>,
+}
+
+/// What the local-shadow variant of inject reads besides the lights.
+#[derive(Debug, Clone, Copy)]
+pub struct LocalShadowInputs<'a> {
+    /// The `LightProjection`s that `FogLight::projection` indexes.
+    pub projections: &'a [LightProjection],
+    /// The atlas layers (filtered as the passes filter them).
+    pub atlas: &'a [Layer],
+    /// The cookie layers.
+    pub cookies: &'a [ColorLayer],
 }
 
 /// World position of froxel `id`'s sample this frame.
@@ -106,15 +123,17 @@ pub fn froxel_scattering(inputs: &InjectInputs<'_>, id: UVec3) -> Vec4 {
         }
         _ => 1.0,
     };
-    let mut sigma_t = medium_extinction(m, world, noise, texture_factor);
+    let shape = medium_shape(m, world, noise, texture_factor);
+    let mut medium = m.emission.extend(m.density) * shape;
     for v in inputs
         .local_volumes
         .iter()
         .take(m.local_volume_count as usize)
     {
-        sigma_t += local_volume_density(v, world);
+        medium += local_volume_sample(v, world);
     }
-    let sigma_t = sigma_t.max(0.0);
+    let emission = medium.truncate().max(Vec3::ZERO);
+    let sigma_t = medium.w.max(0.0);
     let shadow = esm_shadow(
         inputs.esm,
         inputs.cascades,
@@ -134,9 +153,22 @@ pub fn froxel_scattering(inputs: &InjectInputs<'_>, id: UVec3) -> Vec4 {
     };
     light += ambient_inscatter(l.ambient_r, l.ambient_g, l.ambient_b, view_dir, m.phase_g);
     for light_source in inputs.lights.iter().take(l.light_count as usize) {
-        light += fog_light_inscatter(light_source, world, view_dir, m.phase_g);
+        let mut inscatter = fog_light_inscatter(light_source, world, view_dir, m.phase_g);
+        if let Some(local) = inputs
+            .local_shadows
+            .filter(|_| inputs.options.local_shadows)
+            && let Some(p) = local.projections.get(light_source.projection as usize)
+        {
+            inscatter *=
+                local_shadow_visibility(local.atlas, p, world, inputs.options.esm_log_space)
+                    * light_cookie(local.cookies, p, world);
+        }
+        light += inscatter;
     }
-    (m.albedo * sigma_t * light)
+    if sigma_t <= 0.0 {
+        return emission.extend(0.0).min(Vec4::splat(HALF_MAX));
+    }
+    (m.albedo * sigma_t * light + emission)
         .extend(sigma_t)
         .min(Vec4::splat(HALF_MAX))
 }

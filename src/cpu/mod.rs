@@ -18,6 +18,7 @@ pub mod hull;
 pub mod inject;
 pub mod lightning;
 pub mod lights;
+pub mod local_shadow;
 pub mod noise;
 pub mod phase;
 pub mod scan;

@@ -48,6 +48,22 @@ pub struct InjectResources<'a> {
     /// The `CloudLayer` uniform, the cloud density map and its linear, repeat sampler
     /// (required by the cloud-shadow variant).
     pub cloud_shadow: Option<(&'a wgpu::Buffer, &'a wgpu::TextureView, &'a wgpu::Sampler)>,
+    /// The local-light ESM atlas, the `LightProjection` buffer, the cookie array and
+    /// its linear, clamp-to-edge sampler (required by the local-shadow variant).
+    pub local_shadows: Option<LocalShadowResources<'a>>,
+}
+
+/// The resources of the local-shadow variant of the inject pass (bindings 18 to 21).
+#[derive(Debug, Clone, Copy)]
+pub struct LocalShadowResources<'a> {
+    /// The local-light ESM atlas (R32Float 2D array).
+    pub atlas: &'a wgpu::TextureView,
+    /// `array<LightProjection>` storage buffer (at least one element).
+    pub projections: &'a wgpu::Buffer,
+    /// The cookies (a filterable float 2D array).
+    pub cookies: &'a wgpu::TextureView,
+    /// Linear, clamp-to-edge sampler of the cookies.
+    pub cookie_sampler: &'a wgpu::Sampler,
 }
 
 /// The compiled inject pass.
@@ -98,6 +114,22 @@ impl InjectPass {
             entries.push(uniform_entry(15, c));
             entries.push(texture_entry(16, c, wgpu::TextureViewDimension::D2, true));
             entries.push(sampler_entry(17, c, true));
+        }
+        if options.local_shadows {
+            entries.push(texture_entry(
+                18,
+                c,
+                wgpu::TextureViewDimension::D2Array,
+                false,
+            ));
+            entries.push(storage_buffer_entry(19, c, true));
+            entries.push(texture_entry(
+                20,
+                c,
+                wgpu::TextureViewDimension::D2Array,
+                true,
+            ));
+            entries.push(sampler_entry(21, c, true));
         }
         entries
     }
@@ -173,6 +205,18 @@ impl InjectPass {
             resources.push((15, layer.as_entire_binding()));
             resources.push((16, wgpu::BindingResource::TextureView(map)));
             resources.push((17, wgpu::BindingResource::Sampler(sampler)));
+        }
+        if self.options.local_shadows {
+            let l = r.local_shadows.ok_or_else(|| {
+                missing(
+                    "InjectResources.local_shadows",
+                    "the atlas, the projections, the cookies and their sampler",
+                )
+            })?;
+            resources.push((18, wgpu::BindingResource::TextureView(l.atlas)));
+            resources.push((19, l.projections.as_entire_binding()));
+            resources.push((20, wgpu::BindingResource::TextureView(l.cookies)));
+            resources.push((21, wgpu::BindingResource::Sampler(l.cookie_sampler)));
         }
         Ok(bind_group(
             device,

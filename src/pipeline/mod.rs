@@ -15,6 +15,7 @@ pub mod esm;
 mod fog;
 pub mod hull;
 pub mod inject;
+pub mod local_shadow;
 pub mod noise;
 pub mod scan;
 pub mod sky;
@@ -24,9 +25,9 @@ mod timestamps;
 use std::borrow::Cow;
 
 pub use fog::{
-    FogConfig, FogError, FogPass, FrameInputs, FrameUniforms, PassTimings, SCENE_DEPTH_FORMATS,
-    SHADOW_MAP_FORMATS, VOLUME_FORMAT, VolumetricFog, cascade_projection, cascade_splits,
-    check_device,
+    FogConfig, FogError, FogPass, FrameInputs, FrameUniforms, LocalShadowConfig, LocalShadowStats,
+    PassTimings, SCENE_DEPTH_FORMATS, SHADOW_MAP_FORMATS, ShadowedLight, VOLUME_FORMAT,
+    VolumetricFog, cascade_projection, cascade_splits, check_device,
 };
 pub use timestamps::{TimestampError, TimestampPairs};
 

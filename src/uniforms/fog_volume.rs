@@ -1,4 +1,5 @@
-//! `FogVolume`: an analytic box or ellipsoid of fog (`volfog::fog_volume`).
+//! `FogVolume`: an analytic box, ellipsoid, plane, cylinder or cone of fog
+//! (`volfog::fog_volume`).
 
 use encase::ShaderType;
 use glam::{Mat4, Vec3};
@@ -7,13 +8,14 @@ use super::{VolumeShape, check_channels, check_unit};
 use crate::limits::{self, InvalidValue, check};
 
 /// An analytic fog volume (WGSL `volfog::types::FogVolume`, used by
-/// `volfog::fog_volume`): a box or ellipsoid ray traced per pixel, filled with
+/// `volfog::fog_volume`): a box, ellipsoid, cylinder, cone or plane volume ray traced
+/// per pixel, filled with
 /// `density * exp(-falloff * (dot(p - center, gradient) - offset))`. `Default` is a
 /// placeholder for layout probes; build one with [`FogVolume::new`].
 #[derive(Debug, Clone, Copy, PartialEq, Default, ShaderType)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct FogVolume {
-    /// World -> local transform (affine); the shape is the unit box or sphere there.
+    /// World -> local transform (affine); the shape is the unit [`VolumeShape`] there.
     pub local_from_world: Mat4,
     /// In-scattered radiance (linear rgb), [0, 1e9].
     pub color: Vec3,
@@ -27,14 +29,15 @@ pub struct FogVolume {
     pub center: Vec3,
     /// Offset (m) of the reference plane from `center` along `gradient`.
     pub offset: f32,
-    /// 0 box, 1 ellipsoid ([`VolumeShape`]), 2 plane ([`FogVolume::plane`]).
+    /// 0 box, 1 ellipsoid, 3 cylinder, 4 cone ([`VolumeShape`]), 2 plane
+    /// ([`FogVolume::plane`]).
     pub shape: u32,
 }
 
 impl FogVolume {
     /// A volume of uniform fog covering `world_from_local` applied to the unit shape
-    /// (an affine transform: the box `[-1, 1]^3` or the unit sphere become a box or an
-    /// ellipsoid of any size, orientation and position).
+    /// (an affine transform: the unit box, sphere, cylinder or cone become one of any
+    /// size, orientation and position).
     pub fn new(
         world_from_local: Mat4,
         shape: VolumeShape,

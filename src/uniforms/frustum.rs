@@ -33,6 +33,36 @@ pub struct FrustumRays {
     pub depth_terms: Vec4,
 }
 
+/// The depth terms of a perspective projection (standard, reversed or infinite depth,
+/// right- or left-handed): the view depth of a depth value d is
+/// `-(x d + y) / (z d + w)`, positive in front of the camera (the depth rows of the
+/// inverse projection, signed by the side the camera looks to). `field` names the
+/// projection in the error.
+pub(crate) fn depth_terms(field: &'static str, clip_from_view: Mat4) -> Result<Vec4, InvalidValue> {
+    check(
+        clip_from_view.is_finite(),
+        field,
+        clip_from_view,
+        "a finite matrix",
+    )?;
+    let view_from_clip = clip_from_view.inverse();
+    let (z, w) = (view_from_clip.row(2), view_from_clip.row(3));
+    check(
+        view_from_clip.is_finite()
+            && z.x.abs() + z.y.abs() + w.x.abs() + w.y.abs()
+                <= 1e-6 * (z.abs().max_element() + w.abs().max_element())
+            && w.z != 0.0,
+        field,
+        clip_from_view,
+        "an invertible perspective projection whose depth does not depend on x and y",
+    )?;
+    // Forward is -Z (right-handed) or +Z (left-handed): the sign of the view z of a
+    // point inside the clip volume.
+    let probe = view_from_clip * Vec4::new(0.0, 0.0, 0.5, 1.0);
+    let forward = -(probe.z / probe.w).signum();
+    Ok(Vec4::new(z.z * forward, z.w * forward, w.z, w.w))
+}
+
 impl FrustumRays {
     /// The rays of a camera with `world_from_view` (rigid) and the perspective
     /// `clip_from_view` (standard, reversed or infinite depth, right- or left-handed).
@@ -44,26 +74,12 @@ impl FrustumRays {
             "finite matrices",
         )?;
         let view_from_clip = clip_from_view.inverse();
-        let (z, w) = (view_from_clip.row(2), view_from_clip.row(3));
-        check(
-            view_from_clip.is_finite()
-                && z.x.abs() + z.y.abs() + w.x.abs() + w.y.abs()
-                    <= 1e-6 * (z.abs().max_element() + w.abs().max_element())
-                && w.z != 0.0,
-            "FrustumRays.clip_from_view",
-            clip_from_view,
-            "an invertible perspective projection whose depth does not depend on x and y",
-        )?;
-        // Forward is -Z (right-handed) or +Z (left-handed): the sign of the view z of
-        // a point inside the clip volume.
-        let probe = view_from_clip * Vec4::new(0.0, 0.0, 0.5, 1.0);
-        let forward = -(probe.z / probe.w).signum();
+        let depth_terms = depth_terms("FrustumRays.clip_from_view", clip_from_view)?;
         let corner = |u: f32, v: f32| {
             let p = view_from_clip * Vec4::new(2.0 * u - 1.0, 1.0 - 2.0 * v, 0.5, 1.0);
             let p = p.truncate() / p.w;
             world_from_view.transform_vector3(p / p.z.abs()).extend(0.0)
         };
-        let depth_terms = Vec4::new(z.z * forward, z.w * forward, w.z, w.w);
         let view_depth = |d: f32| {
             let den = depth_terms.z * d + depth_terms.w;
             if den.abs() < 1e-30 {

@@ -105,11 +105,18 @@ impl HeightFog {
     }
 
     /// The height fog matching a froxel medium's height profile (noise and local
-    /// volumes aside), lit by a constant radiance: use it as the apply tail so the
-    /// fog continues beyond the volume's far plane with the same density.
+    /// volumes aside), lit by a constant radiance `color` (the in-scattered light per
+    /// unit extinction, `albedo * L_in`): use it as the apply tail so the fog continues
+    /// beyond the volume's far plane with the same density. The medium's emission, whose
+    /// shape is that of its extinction, adds `emission / density` to the colour.
     pub fn from_medium(medium: &FogMedium, color: Vec3) -> Self {
+        let glow = if medium.density > 0.0 {
+            medium.emission / medium.density
+        } else {
+            Vec3::ZERO
+        };
         Self {
-            color,
+            color: (color + glow).min(Vec3::splat(limits::MAX_FOG_RADIANCE)),
             density: medium.density,
             up: medium.up,
             falloff: medium.height_falloff,

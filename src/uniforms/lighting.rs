@@ -76,6 +76,12 @@ pub struct FogLight {
     pub cos_outer: f32,
     /// Cosine of the inner half-angle.
     pub cos_inner: f32,
+    /// Index of the light's [`LightProjection`](super::LightProjection) (its shadow and
+    /// cookie), or [`LOCAL_SHADOW_NONE`](super::LOCAL_SHADOW_NONE). Set by the runtime
+    /// from [`FrameInputs::shadowed_lights`](crate::pipeline::FrameInputs::shadowed_lights);
+    /// a shader only reads it under `VOLFOG_INJECT_LOCAL_SHADOWS`, and ignores an index
+    /// past the projection buffer.
+    pub projection: u32,
 }
 
 impl FogLight {
@@ -90,6 +96,7 @@ impl FogLight {
             radius: 0.05,
             cos_outer: -2.0,
             cos_inner: -2.0,
+            projection: super::LOCAL_SHADOW_NONE,
         }
     }
 

@@ -1,5 +1,5 @@
-//! `FogMedium` (the froxel volume's participating medium) and `LocalVolume` (a box
-//! or ellipsoid that adds or clears fog).
+//! `FogMedium` (the froxel volume's participating medium) and `LocalVolume` (a box,
+//! ellipsoid, cylinder or cone that adds, clears or lights fog).
 
 use encase::ShaderType;
 use glam::{Mat4, Vec3};
@@ -35,6 +35,10 @@ pub struct FogMedium {
     pub phase_g: f32,
     /// Number of local volumes in use (set by the runtime).
     pub local_volume_count: u32,
+    /// Radiance emitted per metre of path where the extinction equals `density`
+    /// (linear rgb, W / (sr m^3)); it follows the extinction's shape (height profile,
+    /// noise, density texture). See [`limits::EMISSION`].
+    pub emission: Vec3,
 }
 
 impl Default for FogMedium {
@@ -52,6 +56,7 @@ impl Default for FogMedium {
             noise_scale: 0.15,
             phase_g: 0.4,
             local_volume_count: 0,
+            emission: Vec3::ZERO,
         }
     }
 }
@@ -92,18 +97,24 @@ impl FogMedium {
             "FogMedium.phase_g",
             self.phase_g,
             "-1 < g < 1",
-        )
+        )?;
+        super::check_channels("FogMedium.emission", self.emission, &limits::EMISSION)
     }
 }
 
-/// Shape of a [`LocalVolume`] or an analytic [`FogVolume`](super::FogVolume).
+/// Shape of a [`LocalVolume`] or an analytic [`FogVolume`](super::FogVolume), in its
+/// local (unit shape) space.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 #[repr(u32)]
 pub enum VolumeShape {
-    /// The box [-1, 1]^3 in local space.
+    /// The box [-1, 1]^3.
     Box = 0,
-    /// The unit sphere in local space.
+    /// The unit sphere.
     Ellipsoid = 1,
+    /// The cylinder of radius 1 around the y axis, |y| <= 1.
+    Cylinder = 3,
+    /// The cone with its apex at y = 1 and a base of radius 1 at y = -1.
+    Cone = 4,
 }
 
 /// A local fog volume (WGSL `volfog::types::LocalVolume`).
@@ -112,12 +123,15 @@ pub enum VolumeShape {
 pub struct LocalVolume {
     /// World -> unit shape space.
     pub local_from_world: Mat4,
+    /// Radiance emitted per metre of path inside (linear rgb, W / (sr m^3)), faded with
+    /// the edge like the density. See [`limits::EMISSION`].
+    pub emission: Vec3,
     /// Extinction added inside (1/m); negative clears fog. See
     /// [`limits::LOCAL_VOLUME_DENSITY`].
     pub density: f32,
     /// Edge falloff width, fraction of the unit extent, (0, 1].
     pub edge: f32,
-    /// 0 box, 1 ellipsoid.
+    /// A [`VolumeShape`] code: 0 box, 1 ellipsoid, 3 cylinder, 4 cone.
     pub shape: u32,
 }
 
@@ -137,12 +151,19 @@ impl LocalVolume {
         )?;
         let volume = Self {
             local_from_world: world_from_local.inverse(),
+            emission: Vec3::ZERO,
             density,
             edge,
             shape: shape as u32,
         };
         volume.validate()?;
         Ok(volume)
+    }
+
+    /// The volume glowing with `emission` (radiance per metre, linear rgb).
+    pub fn with_emission(self, emission: Vec3) -> Result<Self, InvalidValue> {
+        super::check_channels("LocalVolume.emission", emission, &limits::EMISSION)?;
+        Ok(Self { emission, ..self })
     }
 
     /// Checks every member, as [`LocalVolume::new`] does (for volumes built member by
@@ -156,11 +177,19 @@ impl LocalVolume {
         )?;
         limits::LOCAL_VOLUME_DENSITY.check("LocalVolume.density", self.density)?;
         limits::LOCAL_VOLUME_EDGE.check("LocalVolume.edge", self.edge)?;
+        super::check_channels("LocalVolume.emission", self.emission, &limits::EMISSION)?;
         check(
-            self.shape <= VolumeShape::Ellipsoid as u32,
+            [
+                VolumeShape::Box,
+                VolumeShape::Ellipsoid,
+                VolumeShape::Cylinder,
+                VolumeShape::Cone,
+            ]
+            .iter()
+            .any(|shape| *shape as u32 == self.shape),
             "LocalVolume.shape",
             self.shape,
-            "0 (box) or 1 (ellipsoid)",
+            "0 (box), 1 (ellipsoid), 3 (cylinder) or 4 (cone)",
         )
     }
 }

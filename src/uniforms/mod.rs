@@ -32,6 +32,7 @@ pub(crate) mod frustum;
 mod height_fog;
 mod hull;
 mod lighting;
+mod local_shadow;
 mod medium;
 mod shadow;
 mod sky;
@@ -47,6 +48,10 @@ pub use frustum::FrustumRays;
 pub use height_fog::HeightFog;
 pub use hull::FogHull;
 pub use lighting::{DirectionalLight, FogLight, FogLighting};
+pub use local_shadow::{
+    CUBE_FACE_AXES, LOCAL_SHADOW_NONE, LOCAL_SHADOW_POINT, LOCAL_SHADOW_SPOT, LightCamera,
+    LightProjection, LocalShadowSource,
+};
 pub use medium::{FogMedium, LocalVolume, VolumeShape};
 pub use shadow::ShadowCascades;
 pub use sky::SkyAtmosphere;

@@ -554,6 +554,7 @@ fn fog_carries_the_cloud_shadows() {
         density_texture: None,
         noise_texture: None,
         clouds: Some((&map, &layer)),
+        local_shadows: None,
     };
     let size = config.volume_size;
     let (mut worst, mut shadowed, mut open) = (0.0f32, 0, 0);

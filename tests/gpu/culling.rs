@@ -437,10 +437,14 @@ fn disoccluded_froxels_never_take_stale_history() {
         }
         gpu.queue.submit([encoder.finish()]);
     };
-    record(&FogPass::ALL[..4]);
+    let temporal = FogPass::ALL
+        .iter()
+        .position(|p| *p == FogPass::Temporal)
+        .unwrap();
+    record(&FogPass::ALL[..temporal]);
     // This frame's injection, before the scan reuses the texture.
     let now = read_volume(gpu, fog.scattering_texture());
-    record(&FogPass::ALL[4..]);
+    record(&FogPass::ALL[temporal..]);
     let got = read_volume(gpu, fog.stabilised_texture().unwrap());
 
     let size = config.volume_size;
@@ -565,6 +569,7 @@ fn checkerboard_inject_writes_this_frames_live_froxels_only() {
         density_texture: None,
         noise_texture: Some(&noise),
         clouds: None,
+        local_shadows: None,
     };
     let size = config.volume_size;
     let (mut written, mut kept, mut worst) = (0, 0, 0.0f32);

@@ -17,6 +17,7 @@ mod hull;
 mod inject;
 mod js_host;
 mod lightning;
+mod local_shadow;
 mod msaa;
 mod noise;
 mod phase;

@@ -4,7 +4,9 @@
 //! type, and a visibility that includes every stage that uses it.
 
 use volfog::options::{ApplyInput, CULL_DEFINE, Filtering, InjectOptions};
-use volfog::pipeline::{apply, clouds, cull, esm, hull, inject, noise, scan, sky, temporal};
+use volfog::pipeline::{
+    apply, clouds, cull, esm, hull, inject, local_shadow, noise, scan, sky, temporal,
+};
 use volfog_codegen::Stage;
 use volfog_codegen::reflect::Resource;
 use volfog_codegen::translate::VariantOutput;
@@ -200,6 +202,15 @@ fn runtime_layouts_match_the_shaders() {
     for name in ["esm_blur@default", "esm_blur@ESM_LOG_SPACE"] {
         checked += check(name, &[(0, esm::EsmPasses::blur_entries().to_vec())]);
     }
+    for name in [
+        "local_shadow_downsample@default",
+        "local_shadow_downsample@ESM_LOG_SPACE",
+    ] {
+        checked += check(
+            name,
+            &[(0, local_shadow::LocalShadowPass::layout_entries().to_vec())],
+        );
+    }
     for v in volfog_codegen::manifest::variants()
         .into_iter()
         .filter(|v| v.pass.name == "inject")
@@ -210,6 +221,7 @@ fn runtime_layouts_match_the_shaders() {
             depth_cull: v.defines.contains(&CULL_DEFINE),
             checkerboard: v.defines.contains(&"VOLFOG_INJECT_CHECKERBOARD"),
             cloud_shadow: v.defines.contains(&"VOLFOG_INJECT_CLOUD_SHADOW"),
+            local_shadows: v.defines.contains(&"VOLFOG_INJECT_LOCAL_SHADOWS"),
             ..InjectOptions::default()
         };
         checked += check(

@@ -73,6 +73,49 @@ pub struct FogConfig {
     pub apply_filtering: Filtering,
     /// Record GPU timestamps per pass (needs `Features::TIMESTAMP_QUERY`).
     pub timestamps: bool,
+    /// Shadows and cookies of point and spot lights (`VOLFOG_INJECT_LOCAL_SHADOWS`):
+    /// the budget and the atlas; `None` compiles inject without them.
+    pub local_shadows: Option<LocalShadowConfig>,
+}
+
+/// The budget of shadowed point and spot lights and their ESM atlas (see
+/// [`VolumetricFog::set_spot_shadow_maps`](super::VolumetricFog::set_spot_shadow_maps)).
+/// A frame's [`ShadowedLight`](super::ShadowedLight)s take atlas maps in the order
+/// given until the budget of their kind is spent; those after it light the fog
+/// unshadowed (their cookies still apply).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LocalShadowConfig {
+    /// Shadowed spot lights per frame (one atlas layer each), see
+    /// [`limits::SPOT_SHADOWS`].
+    pub spot_shadows: u32,
+    /// Shadowed point lights per frame (six atlas layers each), see
+    /// [`limits::POINT_SHADOWS`].
+    pub point_shadows: u32,
+    /// Texels per side of each atlas map, see [`limits::LOCAL_SHADOW_RESOLUTION`]; the
+    /// lights' depth maps are a whole multiple of it (1 to 16 times).
+    pub resolution: u32,
+    /// ESM exponent for linear depths in [0, 1] (the light's range maps to 1): behind
+    /// an occluder the fog's light falls below 5 % within `3 range / exponent` metres.
+    /// At most 88 unless `FogConfig::esm_log_space`.
+    pub exponent: f32,
+}
+
+impl Default for LocalShadowConfig {
+    fn default() -> Self {
+        Self {
+            spot_shadows: 4,
+            point_shadows: 2,
+            resolution: 256,
+            exponent: 80.0,
+        }
+    }
+}
+
+impl LocalShadowConfig {
+    /// Layers of the atlas: one per spot light, six per point light.
+    pub fn layers(&self) -> u32 {
+        self.spot_shadows + 6 * self.point_shadows
+    }
 }
 
 impl Default for FogConfig {
@@ -105,6 +148,7 @@ impl Default for FogConfig {
             noise_texture: inject.noise_texture,
             apply_filtering: Filtering::Sampler,
             timestamps: false,
+            local_shadows: Some(LocalShadowConfig::default()),
         }
     }
 }
@@ -133,6 +177,13 @@ impl FogConfig {
         limits::LOCAL_VOLUMES.check("FogConfig.max_local_volumes", self.max_local_volumes)?;
         limits::HISTORY_WEIGHT.check("FogConfig.history_weight", self.history_weight)?;
         limits::NOISE_OCTAVES.check("FogConfig.noise_octaves", self.noise_octaves)?;
+        if let Some(l) = &self.local_shadows {
+            limits::SPOT_SHADOWS.check("LocalShadowConfig.spot_shadows", l.spot_shadows)?;
+            limits::POINT_SHADOWS.check("LocalShadowConfig.point_shadows", l.point_shadows)?;
+            limits::LOCAL_SHADOW_RESOLUTION.check("LocalShadowConfig.resolution", l.resolution)?;
+            ShadowCascades::exponent_range(self.esm_log_space)
+                .check("LocalShadowConfig.exponent", l.exponent)?;
+        }
         limits::check(
             !self.amortize || self.temporal,
             "FogConfig.amortize",
@@ -152,6 +203,7 @@ impl FogConfig {
             depth_cull: self.depth_cull,
             checkerboard: self.amortize,
             cloud_shadow: self.cloud_shadow,
+            local_shadows: self.local_shadows.is_some(),
             noise_octaves: self.noise_octaves,
         }
     }

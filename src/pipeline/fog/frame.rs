@@ -21,6 +21,11 @@ impl VolumetricFog {
                 expected: "0 while no shadow map is set (VolumetricFog::set_shadow_map)".into(),
             }));
         }
+        // Every check comes before the first write, so a rejected frame changes nothing.
+        let plan = match &self.local_shadows {
+            Some(local) => Some(local.plan(inputs.lights, inputs.shadowed_lights)?),
+            None => None,
+        };
         let b = &self.buffers;
         queue.write_buffer(&b.froxels, 0, &u.froxels.to_bytes());
         queue.write_buffer(&b.frame, 0, &uniforms::to_uniform_bytes(&u.frame));
@@ -29,8 +34,12 @@ impl VolumetricFog {
         queue.write_buffer(&b.cascades, 0, &uniforms::to_uniform_bytes(&u.cascades));
         queue.write_buffer(&b.tail, 0, &u.tail.to_bytes());
         queue.write_buffer(&b.view, 0, &uniforms::to_uniform_bytes(&u.view));
-        if !inputs.lights.is_empty() {
-            queue.write_buffer(&b.lights, 0, &uniforms::to_storage_bytes(inputs.lights));
+        let lights = plan.as_ref().map_or(inputs.lights, |p| p.lights.as_slice());
+        if !lights.is_empty() {
+            queue.write_buffer(&b.lights, 0, &uniforms::to_storage_bytes(lights));
+        }
+        if let (Some(local), Some(plan)) = (self.local_shadows.as_mut(), &plan) {
+            local.write(queue, plan);
         }
         if !inputs.local_volumes.is_empty() {
             queue.write_buffer(
@@ -83,8 +92,8 @@ impl VolumetricFog {
         self.frames.checked_sub(1)
     }
 
-    /// Records ESM downsample -> blur -> inject -> temporal -> scan for the prepared
-    /// frame.
+    /// Records depth culling, ESM downsample -> blur, the local-light shadow atlas,
+    /// inject -> temporal -> scan for the prepared frame.
     pub fn encode(&self, encoder: &mut wgpu::CommandEncoder) -> Result<(), FogError> {
         for pass in FogPass::ALL {
             self.encode_pass(encoder, pass)?;
@@ -111,6 +120,7 @@ impl VolumetricFog {
             FogPass::Temporal => "volfog temporal",
             FogPass::Scan => "volfog scan",
             FogPass::Cull => "volfog froxel_cull",
+            FogPass::LocalShadows => "volfog local shadows",
         };
         // With culling, inject and temporal run over the listed live blocks.
         let indirect = self.culling.as_ref().map(|c| &c.blocks.dispatch);
@@ -124,6 +134,7 @@ impl VolumetricFog {
             FogPass::Temporal => self.temporal.is_some(),
             FogPass::Inject | FogPass::Scan => true,
             FogPass::Cull => cull.is_some(),
+            FogPass::LocalShadows => self.local_shadows.as_ref().is_some_and(|l| l.runs()),
         };
         if !runs {
             return Ok(());
@@ -165,6 +176,10 @@ impl VolumetricFog {
             FogPass::Cull => {
                 let (pass, (_, _, groups)) = cull.expect("checked above");
                 pass.encode(&mut compute, &groups[parity], size);
+            }
+            FogPass::LocalShadows => {
+                let local = self.local_shadows.as_ref().expect("checked above");
+                local.encode(&mut compute, &self.esm);
             }
         }
         Ok(())

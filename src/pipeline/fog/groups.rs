@@ -2,6 +2,7 @@
 //! (they differ in the live-slice texture and the history read), the ESM blur.
 
 use super::buffers::Buffers;
+use super::local_shadows::LocalShadows;
 use super::textures::{CloudShadow, Culling, Density, Noise, Temporal};
 use super::{VolumetricFog, array_view, view};
 use crate::pipeline::esm::EsmPasses;
@@ -28,6 +29,7 @@ impl VolumetricFog {
                     culling: live(p),
                     noise: self.noise.as_ref(),
                     clouds: self.clouds.as_ref(),
+                    local_shadows: self.local_shadows.as_ref(),
                 },
             )
         });
@@ -112,6 +114,7 @@ pub(super) struct InjectTextures<'a> {
     pub(super) culling: Option<(&'a wgpu::TextureView, &'a wgpu::Buffer)>,
     pub(super) noise: Option<&'a Noise>,
     pub(super) clouds: Option<&'a CloudShadow>,
+    pub(super) local_shadows: Option<&'a LocalShadows>,
 }
 
 pub(super) fn inject_bind_group(
@@ -127,7 +130,9 @@ pub(super) fn inject_bind_group(
         culling,
         noise,
         clouds,
+        local_shadows,
     } = textures;
+    let local_views = local_shadows.map(LocalShadows::views);
     let density_view = density.map(|d| view(&d.texture));
     let noise_view = noise.map(|n| view(&n.texture));
     let cloud_view = clouds.map(|c| view(&c.map));
@@ -150,6 +155,9 @@ pub(super) fn inject_bind_group(
                 cloud_shadow: clouds
                     .zip(cloud_view.as_ref())
                     .map(|(c, v)| (&c.layer, v, &c.sampler)),
+                local_shadows: local_shadows
+                    .zip(local_views.as_ref())
+                    .map(|(l, v)| l.resources(v)),
             },
         )
         .expect("the fog binds every texture its inject variant reads")

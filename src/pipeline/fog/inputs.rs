@@ -4,6 +4,7 @@
 use glam::{Mat4, Vec3};
 
 use super::config::FogConfig;
+use super::local_shadows::ShadowedLight;
 use crate::cpu::ambient::AmbientSh;
 use crate::cpu::froxel::froxel_jitter;
 use crate::limits::{InvalidValue, check};
@@ -54,6 +55,10 @@ pub struct FrameInputs<'a> {
     pub lights: &'a [FogLight],
     /// Local volumes (at most `FogConfig::max_local_volumes`).
     pub local_volumes: &'a [LocalVolume],
+    /// Point and spot lights of `lights` with a shadow camera: their shadow maps and
+    /// cookies (needs `FogConfig::local_shadows`), in priority order (those past the
+    /// budget light the fog unshadowed).
+    pub shadowed_lights: &'a [ShadowedLight],
     /// Shadow cascades; `count` 0 disables shadows. With `count` > 0 a shadow map must
     /// be set ([`VolumetricFog::set_shadow_map`](super::VolumetricFog::set_shadow_map)).
     pub cascades: ShadowCascades,
@@ -80,6 +85,7 @@ impl FrameInputs<'_> {
             ambient: AmbientSh::constant(Vec3::new(0.08, 0.1, 0.14)),
             lights: &[],
             local_volumes: &[],
+            shadowed_lights: &[],
             cascades: ShadowCascades::default(),
             reset_history: false,
             tail: HeightFog::none(),
@@ -137,6 +143,12 @@ impl FrameInputs<'_> {
         for volume in self.local_volumes {
             volume.validate()?;
         }
+        check(
+            self.shadowed_lights.is_empty() || config.local_shadows.is_some(),
+            "FrameInputs.shadowed_lights",
+            self.shadowed_lights.len(),
+            "empty while FogConfig.local_shadows is None",
+        )?;
         self.cascades.validate(config.esm_log_space)?;
         check(
             self.cascades.count <= config.cascades,
@@ -208,6 +220,7 @@ mod tests {
         let proj = glam::camera::rh::proj::directx::perspective(1.0, 1.5, 0.1, 100.0);
         let bad = LocalVolume {
             local_from_world: Mat4::IDENTITY,
+            emission: glam::Vec3::ZERO,
             density: 2.0e3,
             edge: 0.5,
             shape: 0,

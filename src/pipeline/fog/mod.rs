@@ -46,15 +46,17 @@ mod error;
 mod frame;
 mod groups;
 mod inputs;
+mod local_shadows;
 mod resources;
 mod textures;
 mod timings;
 mod user_textures;
 
 pub use cascades::{cascade_projection, cascade_splits};
-pub use config::FogConfig;
+pub use config::{FogConfig, LocalShadowConfig};
 pub use error::FogError;
 pub use inputs::{FrameInputs, FrameUniforms};
+pub use local_shadows::{LocalShadowStats, ShadowedLight};
 pub use resources::{SCENE_DEPTH_FORMATS, SHADOW_MAP_FORMATS, VOLUME_FORMAT, check_device};
 pub use timings::{FogPass, PassTimings};
 
@@ -69,6 +71,7 @@ use super::timestamps::TimestampPairs;
 use crate::uniforms::{self, CloudLayer, HistoryState};
 use buffers::Buffers;
 use groups::{InjectTextures, blur_groups, inject_bind_group, scan_groups, temporal_groups};
+use local_shadows::LocalShadows;
 pub(crate) use resources::{
     array_view, check_cloud_map, check_density_texture, check_scene_depth, check_shadow_map,
     esm_texture, storage_buffer, texture_bytes, uniform_buffer, volume_texture,
@@ -98,6 +101,7 @@ pub struct VolumetricFog {
     culling: Option<Culling>,
     noise: Option<Noise>,
     clouds: Option<CloudShadow>,
+    local_shadows: Option<LocalShadows>,
     /// Inject bind groups by frame parity (they differ in the live-slice texture).
     inject_groups: [wgpu::BindGroup; 2],
     scan_groups: [wgpu::BindGroup; 2],
@@ -232,6 +236,7 @@ impl VolumetricFog {
             empty_written: false,
             sampler: crate::pipeline::clouds::cloud_map_sampler(device),
         });
+        let local_shadows = LocalShadows::new(device, config)?;
         let inject_groups = [0, 1].map(|p| {
             inject_bind_group(
                 device,
@@ -244,6 +249,7 @@ impl VolumetricFog {
                     culling: live_view(p).zip(live_blocks),
                     noise: noise.as_ref(),
                     clouds: clouds.as_ref(),
+                    local_shadows: local_shadows.as_ref(),
                 },
             )
         });
@@ -288,6 +294,7 @@ impl VolumetricFog {
             culling,
             noise,
             clouds,
+            local_shadows,
             inject_groups,
             scan_groups,
             shadow_map: None,
@@ -333,6 +340,20 @@ impl VolumetricFog {
             && config.depth_cull
         {
             next.set_scene_depth(device, texture, *mip_level)?;
+        }
+        if let Some(local) = &self.local_shadows
+            && config.local_shadows.is_some()
+        {
+            let [spot, point, cookies] = local.user_textures();
+            if let Some(t) = spot {
+                next.set_spot_shadow_maps(device, t)?;
+            }
+            if let Some(t) = point {
+                next.set_point_shadow_maps(device, t)?;
+            }
+            if let Some(t) = cookies {
+                next.set_cookies(device, t)?;
+            }
         }
         *self = next;
         Ok(())

@@ -98,7 +98,7 @@ pub(crate) fn texture_bytes(t: &wgpu::Texture) -> u64 {
     u64::from(s.width) * u64::from(s.height) * u64::from(s.depth_or_array_layers) * texel
 }
 
-fn mismatch(
+pub(super) fn mismatch(
     texture: &'static str,
     property: &'static str,
     found: impl std::fmt::Debug,
@@ -166,7 +166,10 @@ pub(crate) fn check_shadow_map(
 }
 
 /// Checks that a texture the fog samples was created with `TEXTURE_BINDING`.
-fn check_texture_binding(what: &'static str, texture: &wgpu::Texture) -> Result<(), FogError> {
+pub(super) fn check_texture_binding(
+    what: &'static str,
+    texture: &wgpu::Texture,
+) -> Result<(), FogError> {
     if texture
         .usage()
         .contains(wgpu::TextureUsages::TEXTURE_BINDING)
@@ -205,7 +208,7 @@ pub(crate) fn check_cloud_map(
     check_filterable(texture, device, "the cloud map", wgpu::TextureDimension::D2)
 }
 
-fn check_filterable(
+pub(super) fn check_filterable(
     texture: &wgpu::Texture,
     device: &wgpu::Device,
     what: &'static str,

@@ -131,12 +131,18 @@ impl VolumetricFog {
         if let Some(c) = self.clouds.as_ref().filter(|c| !c.user) {
             textures.push(&c.map);
         }
+        if let Some(l) = &self.local_shadows {
+            textures.extend(l.textures());
+        }
         let mut buffers: Vec<&wgpu::Buffer> = self.buffers.all().to_vec();
         if let Some(c) = &self.culling {
             buffers.extend([&c.blocks.blocks, &c.blocks.dispatch]);
         }
         if let Some(t) = &self.temporal {
             buffers.extend(&t.states);
+        }
+        if let Some(l) = &self.local_shadows {
+            buffers.extend(l.buffers());
         }
         textures.into_iter().map(texture_bytes).sum::<u64>()
             + buffers.iter().map(|b| b.size()).sum::<u64>()

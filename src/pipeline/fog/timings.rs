@@ -12,6 +12,9 @@ pub struct PassTimings {
     pub esm_downsample: f64,
     /// ESM blur (both directions).
     pub esm_blur: f64,
+    /// The local-light shadow atlas: downsample and blur of the frame's shadowed point
+    /// and spot lights.
+    pub local_shadows: f64,
     /// Inject.
     pub inject: f64,
     /// Temporal reprojection.
@@ -31,7 +34,8 @@ impl PassTimings {
             temporal: ms[3],
             scan: ms[4],
             cull: ms[5],
-            apply: ms[6],
+            local_shadows: ms[6],
+            apply: ms[7],
         }
     }
 }
@@ -56,29 +60,33 @@ pub enum FogPass {
     /// Live slices per froxel column from the scene depth (only with
     /// `FogConfig::depth_cull` and a scene depth set); recorded first.
     Cull,
+    /// The local-light shadow atlas (only when the frame has shadowed point or spot
+    /// lights); recorded after the ESM blur.
+    LocalShadows,
 }
 
 impl FogPass {
     /// Every pass, in order.
-    pub const ALL: [FogPass; 6] = [
+    pub const ALL: [FogPass; 7] = [
         FogPass::Cull,
         FogPass::EsmDownsample,
         FogPass::EsmBlur,
+        FogPass::LocalShadows,
         FogPass::Inject,
         FogPass::Temporal,
         FogPass::Scan,
     ];
 
-    /// Its timestamp pair (the apply pass is pair 6).
+    /// Its timestamp pair (the apply pass is pair 7).
     pub(crate) fn timestamp_pair(self) -> u32 {
         self as u32
     }
 }
 
-/// Timestamp pairs: the six compute passes and the apply.
-pub(crate) const TIMESTAMP_PAIRS: u32 = 7;
+/// Timestamp pairs: the seven compute passes and the apply.
+pub(crate) const TIMESTAMP_PAIRS: u32 = 8;
 /// The timestamp pair of the apply pass.
-pub(crate) const APPLY_PAIR: u32 = 6;
+pub(crate) const APPLY_PAIR: u32 = 7;
 
 impl VolumetricFog {
     pub(super) fn timestamp_writes(

@@ -134,21 +134,29 @@ fn inside(rng: &mut Rng, shape: VolumeShape) -> Vec3 {
     match shape {
         VolumeShape::Box => rng.vec(0.9),
         VolumeShape::Ellipsoid => rng.unit() * 0.9 * rng.f().cbrt(),
+        VolumeShape::Cylinder | VolumeShape::Cone => loop {
+            let p = rng.vec(0.9);
+            if reference::phi(shape as u32, reference::v64(p)) <= -0.1 {
+                break p;
+            }
+        },
     }
 }
 
 fn cases() -> Vec<(&'static str, Case)> {
     let mut rng = Rng(0xf09_b0c5);
     let mut out = Vec::new();
-    for i in 0..6000 {
-        let shape = if i % 2 == 0 {
-            VolumeShape::Box
-        } else {
-            VolumeShape::Ellipsoid
-        };
+    let shapes = [
+        VolumeShape::Box,
+        VolumeShape::Ellipsoid,
+        VolumeShape::Cylinder,
+        VolumeShape::Cone,
+    ];
+    for i in 0..12000 {
+        let shape = shapes[i % 4];
         let (volume, w) = random_volume(&mut rng, shape, 100.0);
         let at = |p: Vec3| w.transform_point3(p);
-        let (kind, eye, point) = match i % 6 {
+        let (kind, eye, point) = match (i / 4) % 6 {
             0 => (
                 "camera outside, through",
                 at(rng.vec(3.0)),

@@ -2,7 +2,7 @@
 //! shape's distance function, the optical depth by Simpson's rule.
 
 use glam::{Mat4, Vec3};
-use volfog::cpu::fog_volume::FOG_VOLUME_ELLIPSOID;
+use volfog::cpu::fog_volume::{FOG_VOLUME_CONE, FOG_VOLUME_CYLINDER, FOG_VOLUME_ELLIPSOID};
 use volfog::uniforms::FogVolume;
 
 pub(super) type M64 = [[f64; 4]; 4];
@@ -25,10 +25,12 @@ pub(super) fn norm(v: [f64; 3]) -> f64 {
 
 /// Distance-like function of the shape in local space: <= 0 inside.
 pub(super) fn phi(shape: u32, p: [f64; 3]) -> f64 {
-    if shape == FOG_VOLUME_ELLIPSOID {
-        norm(p) - 1.0
-    } else {
-        p[0].abs().max(p[1].abs()).max(p[2].abs()) - 1.0
+    let radial = p[0].hypot(p[2]);
+    match shape {
+        FOG_VOLUME_ELLIPSOID => norm(p) - 1.0,
+        FOG_VOLUME_CYLINDER => p[1].abs().max(radial) - 1.0,
+        FOG_VOLUME_CONE => p[1].abs().max(radial + 0.5 * (p[1] + 1.0)) - 1.0,
+        _ => p[0].abs().max(p[1].abs()).max(p[2].abs()) - 1.0,
     }
 }
 
@@ -60,9 +62,31 @@ pub(super) struct Reference {
 /// worst face for a box point near an edge or corner).
 fn incidence(shape: u32, p: [f64; 3], rd: [f64; 3]) -> f64 {
     let len = norm(rd);
+    let dot = |n: [f64; 3]| (n[0] * rd[0] + n[1] * rd[1] + n[2] * rd[2]).abs();
+    let radial = p[0].hypot(p[2]).max(1e-300);
     if shape == FOG_VOLUME_ELLIPSOID {
         let n = norm(p);
         len * n / (p[0] * rd[0] + p[1] * rd[1] + p[2] * rd[2]).abs()
+    } else if shape == FOG_VOLUME_CYLINDER || shape == FOG_VOLUME_CONE {
+        // The side (its unit normal) and the caps, those within 1e-3 of the surface.
+        let (side, side_normal) = if shape == FOG_VOLUME_CYLINDER {
+            (radial, [p[0] / radial, 0.0, p[2] / radial])
+        } else {
+            let k = 1.25f64.sqrt();
+            (
+                radial + 0.5 * (p[1] + 1.0),
+                [p[0] / radial / k, 0.5 / k, p[2] / radial / k],
+            )
+        };
+        let m = side.max(p[1].abs());
+        let mut amp = 1.0f64;
+        if side >= m - 1e-3 {
+            amp = amp.max(len / dot(side_normal));
+        }
+        if p[1].abs() >= m - 1e-3 {
+            amp = amp.max(len / rd[1].abs());
+        }
+        amp
     } else {
         let m = p[0].abs().max(p[1].abs()).max(p[2].abs());
         (0..3)

@@ -17,14 +17,14 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     if i >= arrayLength(&output) { return; }
     let m = mat4x4<f32>(input[5u * i], input[5u * i + 1u], input[5u * i + 2u], input[5u * i + 3u]);
     let sphere = input[5u * i + 4u];
-    let volume = LocalVolume(m, 1.0, 0.5, 0u);
+    let volume = LocalVolume(m, vec3<f32>(0.0), 1.0, 0.5, 0u);
     output[i] = select(0.0, 1.0, local_volume_touches_sphere(volume, sphere.xyz, sphere.w));
 }
 "#;
 
 /// The per-workgroup culling of local volumes: the GPU agrees with the CPU mirror, and
-/// the test is conservative: no point of a sphere said not to touch a volume (box or
-/// ellipsoid, rotated, scaled) gets extinction from it (dense sampling of each sphere).
+/// the test is conservative: no point of a sphere said not to touch a volume (box,
+/// ellipsoid, cylinder or cone, rotated, scaled) gets extinction from it (dense sampling of each sphere).
 #[test]
 fn local_volume_culling_is_conservative_and_matches_cpu() {
     use volfog::cpu::density::{local_volume_density, local_volume_touches_sphere};
@@ -33,11 +33,12 @@ fn local_volume_culling_is_conservative_and_matches_cpu() {
     let mut rng = common::Rng(21);
     let mut cases = Vec::new();
     for i in 0..2000 {
-        let shape = if i % 2 == 0 {
-            VolumeShape::Box
-        } else {
-            VolumeShape::Ellipsoid
-        };
+        let shape = [
+            VolumeShape::Box,
+            VolumeShape::Ellipsoid,
+            VolumeShape::Cylinder,
+            VolumeShape::Cone,
+        ][i % 4];
         let position = rng.vec(10.0);
         let world_from_local = Mat4::from_scale_rotation_translation(
             Vec3::new(

@@ -73,6 +73,7 @@ fn inject_matches_cpu_mirror_for_a_full_scene() {
             density_texture: None,
             noise_texture: None,
             clouds: None,
+            local_shadows: None,
         };
         let size = config.volume_size;
         let mut worst = 0.0f32;
@@ -190,6 +191,7 @@ fn density_texture_variant_matches_cpu_mirror() {
         density_texture: Some(&reference),
         noise_texture: None,
         clouds: None,
+        local_shadows: None,
     };
     let s = config.volume_size;
     let (mut worst, mut lo, mut hi) = (0.0f32, f32::MAX, 0.0f32);

@@ -1,0 +1,559 @@
+//! Shadows and cookies of point and spot lights in [`VolumetricFog`]: the caller's
+//! depth maps and cookies, the local-light ESM atlas they are filtered into, and each
+//! frame's [`ShadowedLight`]s turned into `LightProjection`s within the budget.
+
+use super::config::LocalShadowConfig;
+use super::resources::{check_filterable, check_texture_binding, mismatch};
+use super::{
+    FogConfig, FogError, SHADOW_MAP_FORMATS, VolumetricFog, array_view, esm_texture, storage_buffer,
+};
+use crate::limits::{self, InvalidValue, check};
+use crate::pipeline::esm::EsmPasses;
+use crate::pipeline::inject::LocalShadowResources;
+use crate::pipeline::local_shadow::LocalShadowPass;
+use crate::uniforms::{
+    self, FogLight, LOCAL_SHADOW_NONE, LightCamera, LightProjection, LocalShadowSource,
+};
+
+/// A point or spot light of the frame with its shadow camera: its shadow map among the
+/// caller's depth maps and, for a spot light, its cookie (see
+/// [`VolumetricFog::set_spot_shadow_maps`], [`VolumetricFog::set_point_shadow_maps`]
+/// and [`VolumetricFog::set_cookies`]).
+///
+/// ```
+/// use glam::Vec3;
+/// use volfog::pipeline::ShadowedLight;
+/// use volfog::uniforms::{FogLight, LightCamera};
+///
+/// let lamp = FogLight::spot(Vec3::new(0.0, 3.0, 0.0), Vec3::NEG_Y, Vec3::splat(20.0), 12.0, 0.4, 0.6);
+/// // The camera the lamp's shadow map was rendered with (here volfog's own choice),
+/// // its layer 0 of the spot shadow maps, and cookie layer 2.
+/// let camera = LightCamera::spot(&lamp, 0.1).unwrap();
+/// let shadowed = ShadowedLight::new(0, camera).with_shadow(0).with_cookie(2);
+/// assert_eq!(shadowed.shadow, Some(0));
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ShadowedLight {
+    /// Index of the light in [`FrameInputs::lights`](super::FrameInputs::lights).
+    pub light: u32,
+    /// The camera its depth map was rendered with (and its cookie projects through).
+    pub camera: LightCamera,
+    /// Its shadow map: a layer of the spot shadow maps (a spot camera) or a cube of the
+    /// point shadow maps (a point camera: layers `6 * cube ..`); `None`: unshadowed.
+    pub shadow: Option<u32>,
+    /// A layer of the cookie array the spot light projects; `None`: no cookie.
+    pub cookie: Option<u32>,
+    /// Receivers are tested this much nearer the light (m), see
+    /// [`limits::LOCAL_SHADOW_BIAS`].
+    pub bias: f32,
+}
+
+impl ShadowedLight {
+    /// Light `light` seen from `camera`, without shadow map or cookie yet.
+    pub fn new(light: u32, camera: LightCamera) -> Self {
+        Self {
+            light,
+            camera,
+            shadow: None,
+            cookie: None,
+            bias: 0.0,
+        }
+    }
+
+    /// With its shadow map: the spot layer, or the point cube index.
+    pub fn with_shadow(self, map: u32) -> Self {
+        Self {
+            shadow: Some(map),
+            ..self
+        }
+    }
+
+    /// With a cookie (spot lights).
+    pub fn with_cookie(self, layer: u32) -> Self {
+        Self {
+            cookie: Some(layer),
+            ..self
+        }
+    }
+}
+
+/// What the prepared frame's shadowed lights got (see [`VolumetricFog::local_shadow_stats`]).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct LocalShadowStats {
+    /// Spot lights shadowed through the atlas.
+    pub spot_shadows: u32,
+    /// Point lights shadowed through the atlas.
+    pub point_shadows: u32,
+    /// Lights with a shadow map beyond the budget of their kind, lit unshadowed.
+    pub unshadowed: u32,
+    /// Atlas layers filled this frame.
+    pub layers: u32,
+}
+
+/// A frame's shadowed lights, checked and within the budget.
+#[derive(Debug)]
+pub(super) struct LocalShadowPlan {
+    /// The frame's lights with their projection indices.
+    pub(super) lights: Vec<FogLight>,
+    projections: Vec<LightProjection>,
+    sources: Vec<LocalShadowSource>,
+    stats: LocalShadowStats,
+}
+
+/// The local-light shadows of a fog with `FogConfig::local_shadows`.
+#[derive(Debug)]
+pub(super) struct LocalShadows {
+    config: LocalShadowConfig,
+    pass: LocalShadowPass,
+    /// The atlas and the blur's scratch array, made when the first depth maps are set.
+    atlas: Option<[wgpu::Texture; 2]>,
+    /// Bound in place of the atlas and of a missing depth array: 1 x 1 x 1 R32Float.
+    placeholder: wgpu::Texture,
+    spot_maps: Option<wgpu::Texture>,
+    point_maps: Option<wgpu::Texture>,
+    cookies: Option<wgpu::Texture>,
+    /// Bound while no cookies are set: 1 x 1 x 1 Rgba8Unorm.
+    no_cookies: wgpu::Texture,
+    cookie_sampler: wgpu::Sampler,
+    sources: wgpu::Buffer,
+    projections: wgpu::Buffer,
+    groups: Option<AtlasGroups>,
+    stats: LocalShadowStats,
+}
+
+/// The bind groups that fill the atlas.
+#[derive(Debug)]
+struct AtlasGroups {
+    downsample: wgpu::BindGroup,
+    blur: [wgpu::BindGroup; 2],
+}
+
+fn small_texture(device: &wgpu::Device, label: &str, format: wgpu::TextureFormat) -> wgpu::Texture {
+    device.create_texture(&wgpu::TextureDescriptor {
+        label: Some(label),
+        size: wgpu::Extent3d {
+            width: 1,
+            height: 1,
+            depth_or_array_layers: 1,
+        },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format,
+        usage: wgpu::TextureUsages::TEXTURE_BINDING,
+        view_formats: &[],
+    })
+}
+
+impl LocalShadows {
+    pub(super) fn new(device: &wgpu::Device, config: &FogConfig) -> Result<Option<Self>, FogError> {
+        let Some(local) = config.local_shadows else {
+            return Ok(None);
+        };
+        let sources = uniforms::to_storage_bytes(&vec![
+            LocalShadowSource::default();
+            local.layers().max(1) as usize
+        ]);
+        let projections = uniforms::to_storage_bytes(&vec![
+            LightProjection::default();
+            config.max_lights.max(1) as usize
+        ]);
+        Ok(Some(Self {
+            config: local,
+            pass: LocalShadowPass::new(device, config.esm_log_space)?,
+            atlas: None,
+            placeholder: small_texture(
+                device,
+                "volfog no local shadows",
+                wgpu::TextureFormat::R32Float,
+            ),
+            spot_maps: None,
+            point_maps: None,
+            cookies: None,
+            no_cookies: small_texture(device, "volfog no cookies", wgpu::TextureFormat::Rgba8Unorm),
+            cookie_sampler: device.create_sampler(&wgpu::SamplerDescriptor {
+                label: Some("volfog cookies"),
+                mag_filter: wgpu::FilterMode::Linear,
+                min_filter: wgpu::FilterMode::Linear,
+                ..Default::default()
+            }),
+            sources: storage_buffer(device, "volfog local shadow sources", sources.len()),
+            projections: storage_buffer(device, "volfog light projections", projections.len()),
+            groups: None,
+            stats: LocalShadowStats::default(),
+        }))
+    }
+
+    /// The views inject binds (18 to 21).
+    pub(super) fn views(&self) -> (wgpu::TextureView, wgpu::TextureView) {
+        let atlas = self.atlas.as_ref().map_or(&self.placeholder, |a| &a[0]);
+        let cookies = self.cookies.as_ref().unwrap_or(&self.no_cookies);
+        (array_view(atlas), array_view(cookies))
+    }
+
+    pub(super) fn resources<'a>(
+        &'a self,
+        views: &'a (wgpu::TextureView, wgpu::TextureView),
+    ) -> LocalShadowResources<'a> {
+        LocalShadowResources {
+            atlas: &views.0,
+            projections: &self.projections,
+            cookies: &views.1,
+            cookie_sampler: &self.cookie_sampler,
+        }
+    }
+
+    /// Makes the atlas (once) and the bind groups that fill it from the depth maps
+    /// set so far.
+    fn rebuild(&mut self, device: &wgpu::Device, esm: &EsmPasses) {
+        let (size, layers) = (self.config.resolution, self.config.layers().max(1));
+        let atlas = self.atlas.get_or_insert_with(|| {
+            [
+                esm_texture(device, "volfog local shadow atlas", size, layers),
+                esm_texture(device, "volfog local shadow scratch", size, layers),
+            ]
+        });
+        let (atlas_view, scratch_view) = (array_view(&atlas[0]), array_view(&atlas[1]));
+        let source =
+            |maps: &Option<wgpu::Texture>| array_view(maps.as_ref().unwrap_or(&self.placeholder));
+        self.groups = Some(AtlasGroups {
+            downsample: self.pass.bind_group(
+                device,
+                &self.sources,
+                &source(&self.spot_maps),
+                &source(&self.point_maps),
+                &atlas_view,
+            ),
+            blur: [
+                esm.blur_bind_group(device, &atlas_view, &scratch_view),
+                esm.blur_bind_group(device, &scratch_view, &atlas_view),
+            ],
+        });
+    }
+
+    /// Checks a depth array of the lights' shadow maps: square, a whole multiple of the
+    /// atlas resolution, single-sampled, a shadow-map format, `TEXTURE_BINDING`, and
+    /// (`cube`) six layers a cube.
+    fn check_maps(
+        &self,
+        what: &'static str,
+        texture: &wgpu::Texture,
+        cube: bool,
+    ) -> Result<(), FogError> {
+        let size = texture.size();
+        let res = self.config.resolution;
+        if texture.dimension() != wgpu::TextureDimension::D2 {
+            return Err(mismatch(
+                what,
+                "dimension",
+                texture.dimension(),
+                "D2 (with array layers)".into(),
+            ));
+        }
+        let factor = size.width / res;
+        if size.width != size.height
+            || size.width % res != 0
+            || !limits::LOCAL_SHADOW_FACTOR.contains(factor)
+        {
+            return Err(mismatch(
+                what,
+                "size",
+                (size.width, size.height),
+                format!(
+                    "square, k x LocalShadowConfig.resolution = k x {res} texels for k in {}",
+                    limits::LOCAL_SHADOW_FACTOR.describe()
+                ),
+            ));
+        }
+        if cube && size.depth_or_array_layers % 6 != 0 {
+            return Err(mismatch(
+                what,
+                "layer count",
+                size.depth_or_array_layers,
+                "a multiple of 6 (a cube's faces +X, -X, +Y, -Y, +Z, -Z per light)".into(),
+            ));
+        }
+        if !SHADOW_MAP_FORMATS.contains(&texture.format()) {
+            return Err(mismatch(
+                what,
+                "format",
+                texture.format(),
+                format!("one of {SHADOW_MAP_FORMATS:?}"),
+            ));
+        }
+        if texture.sample_count() != 1 {
+            return Err(mismatch(
+                what,
+                "sample count",
+                texture.sample_count(),
+                "1".into(),
+            ));
+        }
+        check_texture_binding(what, texture)
+    }
+
+    /// Checks the frame's shadowed lights and turns them into projections within the
+    /// budget: the lights with their projection indices, the projections and the atlas
+    /// maps to fill. Writes nothing.
+    pub(super) fn plan(
+        &self,
+        lights: &[FogLight],
+        shadowed: &[ShadowedLight],
+    ) -> Result<LocalShadowPlan, FogError> {
+        let mut out: Vec<FogLight> = lights
+            .iter()
+            .map(|l| FogLight {
+                projection: LOCAL_SHADOW_NONE,
+                ..*l
+            })
+            .collect();
+        let mut projections = Vec::with_capacity(shadowed.len());
+        let mut sources = Vec::new();
+        let mut stats = LocalShadowStats::default();
+        let (mut spots, mut points) = (0, 0);
+        for s in shadowed {
+            let light = lights.get(s.light as usize).ok_or_else(|| InvalidValue {
+                field: "ShadowedLight.light",
+                value: s.light.to_string(),
+                expected: format!("an index into FrameInputs.lights (0..{})", lights.len()).into(),
+            })?;
+            check(
+                out[s.light as usize].projection == LOCAL_SHADOW_NONE,
+                "ShadowedLight.light",
+                s.light,
+                "each light at most once",
+            )?;
+            let depth_terms = s.camera.depth_terms()?;
+            limits::LOCAL_SHADOW_BIAS.check("ShadowedLight.bias", s.bias)?;
+            let point = matches!(s.camera, LightCamera::Point { .. });
+            let cookie = match s.cookie {
+                None => LOCAL_SHADOW_NONE,
+                Some(layer) => {
+                    check(
+                        !point,
+                        "ShadowedLight.cookie",
+                        layer,
+                        "None for a point light (cookies are projected by spot lights)",
+                    )?;
+                    let layers = self
+                        .cookies
+                        .as_ref()
+                        .map_or(0, |c| c.size().depth_or_array_layers);
+                    check(
+                        layer < layers,
+                        "ShadowedLight.cookie",
+                        layer,
+                        format!(
+                            "a layer of the cookie array (0..{layers}; VolumetricFog::set_cookies)"
+                        ),
+                    )?;
+                    layer
+                }
+            };
+            let mut layer = LOCAL_SHADOW_NONE;
+            if let Some(map) = s.shadow {
+                let (maps, per_map, what) = if point {
+                    (
+                        &self.point_maps,
+                        6,
+                        "a cube of the point shadow maps (VolumetricFog::set_point_shadow_maps)",
+                    )
+                } else {
+                    (
+                        &self.spot_maps,
+                        1,
+                        "a layer of the spot shadow maps (VolumetricFog::set_spot_shadow_maps)",
+                    )
+                };
+                let available = maps
+                    .as_ref()
+                    .map_or(0, |m| m.size().depth_or_array_layers / per_map);
+                check(
+                    map < available,
+                    "ShadowedLight.shadow",
+                    map,
+                    format!("{what}: 0..{available}"),
+                )?;
+                let granted = if point {
+                    points < self.config.point_shadows
+                } else {
+                    spots < self.config.spot_shadows
+                };
+                if granted {
+                    // Layers are handed out from 0 up, so the blur covers exactly the
+                    // layers written this frame.
+                    layer = sources.len() as u32;
+                    for face in 0..per_map {
+                        sources.push(LocalShadowSource {
+                            depth_terms,
+                            depth_range: light.range,
+                            exponent: self.config.exponent,
+                            source_layer: map * per_map + face,
+                            atlas_layer: layer + face,
+                            source: u32::from(point),
+                        });
+                    }
+                    if point {
+                        points += 1;
+                    } else {
+                        spots += 1;
+                    }
+                } else {
+                    stats.unshadowed += 1;
+                }
+            }
+            out[s.light as usize].projection = projections.len() as u32;
+            projections.push(LightProjection {
+                light_from_world: s.camera.light_from_world(),
+                depth_range: light.range,
+                exponent: self.config.exponent,
+                bias: s.bias,
+                kind: s.camera.kind(),
+                layer,
+                cookie,
+            });
+        }
+        stats.spot_shadows = spots;
+        stats.point_shadows = points;
+        stats.layers = sources.len() as u32;
+        Ok(LocalShadowPlan {
+            lights: out,
+            projections,
+            sources,
+            stats,
+        })
+    }
+
+    /// Uploads a frame's plan (its projections and atlas maps).
+    pub(super) fn write(&mut self, queue: &wgpu::Queue, plan: &LocalShadowPlan) {
+        if !plan.projections.is_empty() {
+            let bytes = uniforms::to_storage_bytes(&plan.projections);
+            queue.write_buffer(&self.projections, 0, &bytes);
+        }
+        if !plan.sources.is_empty() {
+            let bytes = uniforms::to_storage_bytes(&plan.sources);
+            queue.write_buffer(&self.sources, 0, &bytes);
+        }
+        self.stats = plan.stats;
+    }
+
+    /// Records the downsample and blur of this frame's atlas layers.
+    pub(super) fn encode(&self, compute: &mut wgpu::ComputePass<'_>, esm: &EsmPasses) {
+        let (Some(groups), layers) = (&self.groups, self.stats.layers) else {
+            return;
+        };
+        if layers == 0 {
+            return;
+        }
+        let size = self.config.resolution;
+        self.pass.encode(compute, &groups.downsample, size, layers);
+        for (axis, group) in groups.blur.iter().enumerate() {
+            esm.encode_blur(compute, group, axis as u32, size, layers);
+        }
+    }
+
+    /// Whether this frame fills atlas layers.
+    pub(super) fn runs(&self) -> bool {
+        self.groups.is_some() && self.stats.layers > 0
+    }
+
+    /// The textures this object owns (the caller's depth maps and cookies excluded).
+    pub(super) fn textures(&self) -> Vec<&wgpu::Texture> {
+        let mut t = vec![&self.placeholder, &self.no_cookies];
+        if let Some(a) = &self.atlas {
+            t.extend(a);
+        }
+        t
+    }
+
+    /// Its buffers.
+    pub(super) fn buffers(&self) -> [&wgpu::Buffer; 2] {
+        [&self.sources, &self.projections]
+    }
+
+    /// The caller's textures, to carry over a reconfiguration.
+    pub(super) fn user_textures(&self) -> [Option<&wgpu::Texture>; 3] {
+        [
+            self.spot_maps.as_ref(),
+            self.point_maps.as_ref(),
+            self.cookies.as_ref(),
+        ]
+    }
+}
+
+fn local_shadows_off() -> FogError {
+    FogError::Invalid(InvalidValue {
+        field: "FogConfig.local_shadows",
+        value: "None".to_string(),
+        expected: "Some(LocalShadowConfig) to use shadowed point and spot lights or cookies".into(),
+    })
+}
+
+impl VolumetricFog {
+    /// Uses the spot lights' shadow maps: a 2D depth array (a layer per light,
+    /// [`ShadowedLight::shadow`]) of `k x LocalShadowConfig::resolution` texels per side
+    /// (k from 1 to 16), in one of [`SHADOW_MAP_FORMATS`](super::SHADOW_MAP_FORMATS),
+    /// with `TEXTURE_BINDING` usage; standard, reversed or infinite depth as the
+    /// [`LightCamera`] of each light says. Each frame's shadowed spot lights are
+    /// filtered from it into the atlas.
+    pub fn set_spot_shadow_maps(
+        &mut self,
+        device: &wgpu::Device,
+        texture: &wgpu::Texture,
+    ) -> Result<(), FogError> {
+        let local = self.local_shadows.as_mut().ok_or_else(local_shadows_off)?;
+        local.check_maps("the spot shadow maps", texture, false)?;
+        local.spot_maps = Some(texture.clone());
+        local.rebuild(device, &self.esm);
+        self.rebuild_inject_groups(device);
+        Ok(())
+    }
+
+    /// Uses the point lights' cube shadow maps: a 2D depth array of six layers per
+    /// light (a cube or cube-array texture), faces in the order +X, -X, +Y, -Y, +Z, -Z
+    /// as a cube map lays them out ([`LightCamera::cube_face_view`]); otherwise as
+    /// [`VolumetricFog::set_spot_shadow_maps`].
+    pub fn set_point_shadow_maps(
+        &mut self,
+        device: &wgpu::Device,
+        texture: &wgpu::Texture,
+    ) -> Result<(), FogError> {
+        let local = self.local_shadows.as_mut().ok_or_else(local_shadows_off)?;
+        local.check_maps("the point shadow maps", texture, true)?;
+        local.point_maps = Some(texture.clone());
+        local.rebuild(device, &self.esm);
+        self.rebuild_inject_groups(device);
+        Ok(())
+    }
+
+    /// Uses a 2D array of cookies (a filterable float format, e.g. Rgba8Unorm, with
+    /// `TEXTURE_BINDING` usage): a spot light with [`ShadowedLight::cookie`] multiplies
+    /// its light by the layer's colour where its camera projects it, sampled linearly
+    /// with clamp to edge (v down), and gives no light outside the camera's frustum.
+    pub fn set_cookies(
+        &mut self,
+        device: &wgpu::Device,
+        texture: &wgpu::Texture,
+    ) -> Result<(), FogError> {
+        let local = self.local_shadows.as_mut().ok_or_else(local_shadows_off)?;
+        check_filterable(texture, device, "the cookies", wgpu::TextureDimension::D2)?;
+        local.cookies = Some(texture.clone());
+        self.rebuild_inject_groups(device);
+        Ok(())
+    }
+
+    /// What the prepared frame's [`ShadowedLight`]s got: the shadowed lights of each
+    /// kind, those beyond the budget (lit unshadowed) and the atlas layers filled.
+    pub fn local_shadow_stats(&self) -> LocalShadowStats {
+        self.local_shadows
+            .as_ref()
+            .map(|l| l.stats)
+            .unwrap_or_default()
+    }
+
+    /// The local-light ESM atlas once a shadow map array is set (R32Float, one layer
+    /// per spot light, six per point light, filled from layer 0 by each frame).
+    pub fn local_shadow_atlas(&self) -> Option<&wgpu::Texture> {
+        self.local_shadows.as_ref()?.atlas.as_ref().map(|a| &a[0])
+    }
+}
