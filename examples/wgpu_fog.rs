@@ -1,6 +1,6 @@
 //! The wgpu code of the README and of `docs/wgpu.md`, run on a device: the README's
 //! `VolumetricFog` in ten lines, the guide's frame with a shadow map, depth culling, a
-//! light and the far-plane tail, and epipolar sun shafts. Each function sets up what
+//! light and the far-plane tail, shadowed lamps with a cookie, and epipolar sun shafts. Each function sets up what
 //! the guide's lines take from the renderer around them (textures, camera, sun), then
 //! runs those lines as the guide shows them; the host tests check that every `rust`
 //! block of the guides appears here line for line.
@@ -30,6 +30,7 @@ fn main() -> Result {
         "docs/wgpu.md: VolumetricFog with shadows, culling, a light and the tail",
         shadowed_frame,
     )?;
+    run(&gpu, "docs/wgpu.md: shadowed lamps and a cookie", shadowed_lamps)?;
     run(&gpu, "docs/wgpu.md: epipolar sun shafts", epipolar_shafts)?;
     Ok(())
 }
@@ -117,6 +118,68 @@ fn shadowed_frame(gpu: &Gpu) -> Result {
     }
     queue.submit([encoder.finish()]);
 
+    Ok(())
+}
+
+/// The wgpu guide's shadowed lamps: a spot light with a shadow map and a cookie, a
+/// point light with a cube shadow map.
+#[rustfmt::skip]
+fn shadowed_lamps(gpu: &Gpu) -> Result {
+    let (device, queue) = (gpu.device.clone(), gpu.queue.clone());
+    let (view_from_world, clip_from_view, time) = camera();
+    // The lamps' depth maps as a renderer draws them (here cleared to the far plane),
+    // 4 x the atlas resolution, and one white cookie.
+    let spot_depth_array = texture(&device, "spot shadows", (1024, 1024, 1), wgpu::TextureFormat::Depth32Float);
+    let cube_depth_array = texture(&device, "point shadows", (1024, 1024, 6), wgpu::TextureFormat::Depth32Float);
+    let cookie_array = texture(&device, "cookies", (64, 64, 1), wgpu::TextureFormat::Rgba8Unorm);
+    let mut encoder = device.create_command_encoder(&Default::default());
+    for layer in 0..6 {
+        let face = |t: &wgpu::Texture| t.create_view(&wgpu::TextureViewDescriptor {
+            dimension: Some(wgpu::TextureViewDimension::D2),
+            base_array_layer: layer,
+            array_layer_count: Some(1),
+            ..Default::default()
+        });
+        clear(&mut encoder, None, &face(&cube_depth_array));
+    }
+    clear(&mut encoder, None, &spot_depth_array.create_view(&Default::default()));
+    let cookie_depth = texture(&device, "cookie depth", (64, 64, 1), wgpu::TextureFormat::Depth32Float);
+    clear(&mut encoder, Some(&cookie_array.create_view(&Default::default())), &cookie_depth.create_view(&Default::default()));
+    queue.submit([encoder.finish()]);
+    let desk_lamp = volfog::uniforms::FogLight::spot(
+        Vec3::new(1.0, 3.0, -8.0), Vec3::new(0.0, -1.0, -0.3).normalize(), Vec3::splat(30.0), 10.0, 0.4, 0.6);
+    let torch = volfog::uniforms::FogLight::point(Vec3::new(-2.0, 1.5, -10.0), Vec3::new(40.0, 25.0, 10.0), 8.0);
+    let volfog::uniforms::LightCamera::Spot { view_from_world: lamp_view, clip_from_view: lamp_projection } =
+        volfog::uniforms::LightCamera::spot(&desk_lamp, 0.1)? else { unreachable!() };
+    let volfog::uniforms::LightCamera::Point { cube_from_world: torch_cube, clip_from_view: face_projection } =
+        volfog::uniforms::LightCamera::point(&torch, 0.1)? else { unreachable!() };
+
+    use volfog::pipeline::{FogConfig, FrameInputs, ShadowedLight, VolumetricFog};
+    use volfog::uniforms::LightCamera;
+
+    // once: the lamps' depth maps as your renderer draws them (any perspective depth)
+    let mut fog = VolumetricFog::new(&device, &FogConfig::default())?;  // 4 spot + 2 point shadows, 256² maps
+    fog.set_spot_shadow_maps(&device, &spot_depth_array)?;    // a layer per spot light, k x 256 texels
+    fog.set_point_shadow_maps(&device, &cube_depth_array)?;   // six layers (+X, -X, +Y, -Y, +Z, -Z) a light
+    fog.set_cookies(&device, &cookie_array)?;                 // optional: what spot lights project
+    // every frame:
+    let lights = [desk_lamp, torch];
+    let shadowed = [
+        ShadowedLight::new(0, LightCamera::Spot { view_from_world: lamp_view, clip_from_view: lamp_projection })
+            .with_shadow(0).with_cookie(0),                   // spot map 0, cookie 0
+        ShadowedLight::new(1, LightCamera::Point { cube_from_world: torch_cube, clip_from_view: face_projection })
+            .with_shadow(0),                                  // cube 0 of the point maps
+    ];
+    fog.prepare(&queue, &FrameInputs {
+        lights: &lights,
+        shadowed_lights: &shadowed,   // in priority order: lights past the budget are unshadowed
+        ..FrameInputs::new(view_from_world, clip_from_view, time)
+    })?;
+    let mut encoder = device.create_command_encoder(&Default::default());
+    fog.encode(&mut encoder)?;                                // ... the atlas pass, then inject
+    queue.submit([encoder.finish()]);
+
+    assert_eq!(fog.local_shadow_stats().layers, 7);
     Ok(())
 }
 

@@ -115,11 +115,7 @@ impl FogVolume {
         // Local +Y is the normal; the other two axes complete a right-handed frame.
         let rotation = glam::Quat::from_rotation_arc(Vec3::Y, normal);
         let world_from_local = Mat4::from_rotation_translation(rotation, point);
-        let volume = Self::new(world_from_local, VolumeShape::Box, color, density)?;
-        Ok(Self {
-            shape: crate::cpu::fog_volume::FOG_VOLUME_PLANE,
-            ..volume
-        })
+        Self::new(world_from_local, VolumeShape::Plane, color, density)
     }
 
     /// Makes the density fall exponentially along the unit world direction `gradient`

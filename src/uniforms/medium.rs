@@ -111,6 +111,8 @@ pub enum VolumeShape {
     Box = 0,
     /// The unit sphere.
     Ellipsoid = 1,
+    /// The half-space y <= 0 (fog volumes only: [`FogVolume::plane`](super::FogVolume::plane)).
+    Plane = 2,
     /// The cylinder of radius 1 around the y axis, |y| <= 1.
     Cylinder = 3,
     /// The cone with its apex at y = 1 and a base of radius 1 at y = -1.

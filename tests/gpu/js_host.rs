@@ -65,6 +65,7 @@ fn the_js_host_runs_the_export_and_matches_the_rust_pipeline() {
     let config = FogConfig {
         esm_log_space: false,
         depth_cull: false,
+        local_shadows: None,
         ..small_config()
     };
     // The variants this configuration composes are the exported defaults.

@@ -1,4 +1,5 @@
-//! Property tests: for random valid media the scan never produces NaN or Inf,
+//! Property tests: for random valid media (scattering and emitting) the scan never
+//! produces NaN or Inf,
 //! transmittance stays in [0, 1] and never increases with depth, in-scattering never
 //! decreases; phase functions stay finite and positive. The CPU mirror is checked per
 //! case; the GPU scan is checked on a volume built from many random columns.
@@ -14,16 +15,15 @@ use volfog::options::ScanStep;
 use volfog_testkit::selfcheck::{run_scan, test_froxels};
 
 fn medium() -> impl Strategy<Value = Vec4> {
-    // sigma_t in [0, 2] 1/m (clear air to dense smoke), albedo in [0, 1], light in [0, 100].
+    // sigma_t in [0, 2] 1/m (clear air to dense smoke), albedo in [0, 1], light in [0, 100],
+    // emission in [0, 10] per metre (glowing fog, with or without extinction).
     (
-        0.0f32..2.0,
-        0.0f32..=1.0,
-        0.0f32..100.0,
-        0.0f32..100.0,
-        0.0f32..100.0,
+        (0.0f32..2.0, 0.0f32..=1.0),
+        (0.0f32..100.0, 0.0f32..100.0, 0.0f32..100.0),
+        (0.0f32..10.0, 0.0f32..10.0, 0.0f32..10.0),
     )
-        .prop_map(|(sigma_t, albedo, r, g, b)| {
-            (Vec3::new(r, g, b) * albedo * sigma_t).extend(sigma_t)
+        .prop_map(|((sigma_t, albedo), (r, g, b), (er, eg, eb))| {
+            (Vec3::new(r, g, b) * albedo * sigma_t + Vec3::new(er, eg, eb)).extend(sigma_t)
         })
 }
 

@@ -252,7 +252,7 @@ impl LocalShadows {
         }
         let factor = size.width / res;
         if size.width != size.height
-            || size.width % res != 0
+            || !size.width.is_multiple_of(res)
             || !limits::LOCAL_SHADOW_FACTOR.contains(factor)
         {
             return Err(mismatch(
@@ -265,7 +265,7 @@ impl LocalShadows {
                 ),
             ));
         }
-        if cube && size.depth_or_array_layers % 6 != 0 {
+        if cube && !size.depth_or_array_layers.is_multiple_of(6) {
             return Err(mismatch(
                 what,
                 "layer count",

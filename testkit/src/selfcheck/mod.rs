@@ -9,6 +9,7 @@ mod apply;
 mod depth;
 mod epipolar;
 mod esm;
+mod local_shadow;
 mod scan;
 
 use glam::{Mat4, UVec3, Vec4};
@@ -23,6 +24,7 @@ pub use apply::{ApplyCase, max_abs_diff, run_apply};
 pub use depth::{depth_array_texture, depth_texture};
 pub use epipolar::{EpipolarCheck, epipolar_check};
 pub use esm::run_esm;
+pub use local_shadow::{LocalShadowCheck, local_shadow_check};
 pub use scan::{
     ScanError, cpu_scan, homogeneous, homogeneous_closed_form, live_slices_texture, run_scan,
     run_scan_culled, scan_vs_closed_form,
@@ -74,6 +76,8 @@ pub struct Report {
     pub apply_manual: f32,
     /// Epipolar sun shafts.
     pub epipolar: EpipolarCheck,
+    /// The local-light shadow atlas.
+    pub local_shadow: LocalShadowCheck,
 }
 
 /// Runs the self-check on an adapter.
@@ -94,6 +98,7 @@ pub fn run(gpu: &Gpu) -> Result<Report, GpuError> {
         apply_sampler,
         apply_manual,
         epipolar: epipolar_check(gpu)?,
+        local_shadow: local_shadow_check(gpu)?,
     })
 }
 
@@ -125,6 +130,16 @@ impl std::fmt::Display for Report {
             f,
             "epipolar shafts: unshadowed lit fraction vs 1, max {:.2e}; tree march vs every section, max {:.2e} over {} partly shadowed samples",
             e.unshadowed, e.tree_vs_steps, e.partly_shadowed
+        )?;
+        let l = &self.local_shadow;
+        writeln!(
+            f,
+            "local-light shadow atlas (a point light in a closed room, c = {}): texels vs exp(c d / range), max relative {:.2e}; visibility 3 range / c behind the wall {:.4} (closed form exp(-3) = {:.4}), in front min {:.4} (1)",
+            l.exponent,
+            l.atlas,
+            l.behind,
+            (-3.0f32).exp(),
+            l.in_front
         )
     }
 }

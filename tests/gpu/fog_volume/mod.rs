@@ -134,7 +134,7 @@ fn inside(rng: &mut Rng, shape: VolumeShape) -> Vec3 {
     match shape {
         VolumeShape::Box => rng.vec(0.9),
         VolumeShape::Ellipsoid => rng.unit() * 0.9 * rng.f().cbrt(),
-        VolumeShape::Cylinder | VolumeShape::Cone => loop {
+        VolumeShape::Cylinder | VolumeShape::Cone | VolumeShape::Plane => loop {
             let p = rng.vec(0.9);
             if reference::phi(shape as u32, reference::v64(p)) <= -0.1 {
                 break p;

@@ -15,7 +15,7 @@ fn cookie_texels() -> Vec<u8> {
     let mut texels = vec![255u8; (SIZE * SIZE * 4) as usize];
     for _row in 0..SIZE {
         for x in 0..SIZE {
-            texels.extend(if x * STRIPES / SIZE % 2 == 0 {
+            texels.extend(if (x * STRIPES / SIZE).is_multiple_of(2) {
                 EVEN
             } else {
                 ODD
