@@ -13,7 +13,7 @@ use std::collections::HashSet;
 use bevy::camera::{Camera, Exposure};
 use bevy::light::{
     CascadeShadowConfig, Cascades, DirectionalLight, DirectionalLightShadowMap, GlobalAmbientLight,
-    PointLight, SpotLight,
+    PointLight, PointLightShadowMap, SpotLight,
 };
 use bevy::prelude::*;
 use bevy::render::Extract;
@@ -25,6 +25,7 @@ use volfog::limits::{self, InvalidValue, check};
 use volfog::pipeline::FogConfig;
 use volfog::uniforms::{FogLight, FogMedium, HeightFog, LocalVolume, ShadowCascades, VolumeShape};
 
+use crate::light_shadows::{ExtractedLightShadow, local_shadow_config};
 use crate::settings::{FogVolumeShape, FroxelFog, FroxelFogVolume};
 
 /// Screen pixels per froxel side that [`FroxelFog::tile_size`] accepts.
@@ -50,8 +51,11 @@ pub struct ExtractedFroxelFog {
     pub sun: volfog::uniforms::DirectionalLight,
     /// Constant ambient radiance as SH.
     pub ambient: AmbientSh,
-    /// Point and spot lights.
+    /// Point and spot lights, those that cast shadows in Bevy first.
     pub lights: Vec<FogLight>,
+    /// The lights that cast shadows in Bevy (their shadow maps are looked up in the
+    /// render world each frame).
+    pub light_shadows: Vec<ExtractedLightShadow>,
     /// Local volumes.
     pub volumes: Vec<LocalVolume>,
     /// The sun's cascades (count 0 without a shadowed sun).
@@ -137,11 +141,12 @@ pub fn extract_froxel_fog(
     cameras: Extract<Query<FogCameraItems>>,
     others: Extract<Query<RenderEntity, OtherCameras>>,
     suns: Extract<SunQuery>,
-    points: Extract<Query<(&PointLight, &GlobalTransform)>>,
-    spots: Extract<Query<(&SpotLight, &GlobalTransform)>>,
+    points: Extract<PointQuery>,
+    spots: Extract<SpotQuery>,
     volumes: Extract<Query<(&FroxelFogVolume, &GlobalTransform)>>,
     ambient: Extract<Option<Res<GlobalAmbientLight>>>,
     shadow_map: Extract<Res<DirectionalLightShadowMap>>,
+    point_shadow_map: Extract<Res<PointLightShadowMap>>,
     time: Extract<Res<Time>>,
     mut warned: Local<HashSet<Entity>>,
 ) {
@@ -157,6 +162,7 @@ pub fn extract_froxel_fog(
             msaa: msaa.copied().unwrap_or_default(),
             ambient: ambient.as_deref(),
             shadow_map_size: shadow_map.size as u32,
+            point_shadow_map_size: point_shadow_map.size as u32,
             time: time.elapsed_secs_wrapped(),
         };
         let lights = collect_lights(&points, &spots, scene.exposure, fog.light_scattering);
@@ -188,28 +194,39 @@ struct Scene<'a> {
     msaa: Msaa,
     ambient: Option<&'a GlobalAmbientLight>,
     shadow_map_size: u32,
+    point_shadow_map_size: u32,
     time: f32,
 }
 
+/// The point lights as the extraction reads them.
+type PointQuery<'w, 's> =
+    Query<'w, 's, (RenderEntity, &'static PointLight, &'static GlobalTransform)>;
+/// The spot lights as the extraction reads them.
+type SpotQuery<'w, 's> =
+    Query<'w, 's, (RenderEntity, &'static SpotLight, &'static GlobalTransform)>;
+
+/// The point and spot lights (the first [`limits::MAX_LIGHTS`], those with shadow maps
+/// first) and which of them cast shadows.
 fn collect_lights(
-    points: &Query<(&PointLight, &GlobalTransform)>,
-    spots: &Query<(&SpotLight, &GlobalTransform)>,
+    points: &PointQuery,
+    spots: &SpotQuery,
     exposure: f32,
     scattering: f32,
-) -> Vec<FogLight> {
+) -> (Vec<FogLight>, Vec<ExtractedLightShadow>) {
     let candela = exposure / (4.0 * std::f32::consts::PI);
-    let mut lights = Vec::new();
-    for (light, transform) in points.iter() {
+    let mut found: Vec<(bool, Entity, FogLight)> = Vec::new();
+    for (entity, light, transform) in points.iter() {
         let color = rgb(light.color.to_linear()) * (light.intensity * candela);
-        lights.push(FogLight {
+        let fog_light = FogLight {
             fog_intensity: scattering,
             radius: light.radius.max(0.01),
             ..FogLight::point(vec3(transform.translation()), color, light.range)
-        });
+        };
+        found.push((light.shadow_maps_enabled, entity, fog_light));
     }
-    for (light, transform) in spots.iter() {
+    for (entity, light, transform) in spots.iter() {
         let color = rgb(light.color.to_linear()) * (light.intensity * candela);
-        lights.push(FogLight {
+        let fog_light = FogLight {
             fog_intensity: scattering,
             radius: light.radius.max(0.01),
             ..FogLight::spot(
@@ -220,10 +237,21 @@ fn collect_lights(
                 light.inner_angle,
                 light.outer_angle,
             )
-        });
+        };
+        found.push((light.shadow_maps_enabled, entity, fog_light));
     }
-    lights.truncate(limits::MAX_LIGHTS as usize);
-    lights
+    found.sort_by_key(|(shadows, ..)| !shadows);
+    found.truncate(limits::MAX_LIGHTS as usize);
+    let shadows = found
+        .iter()
+        .enumerate()
+        .filter(|(_, (shadows, ..))| *shadows)
+        .map(|(i, (_, entity, _))| ExtractedLightShadow {
+            light: i as u32,
+            entity: *entity,
+        })
+        .collect();
+    (found.into_iter().map(|(.., l)| l).collect(), shadows)
 }
 
 /// Builds one camera's fog, or the first value out of range.
@@ -239,7 +267,7 @@ fn extracted<'a>(
             Option<&'a CascadeShadowConfig>,
         ),
     >,
-    lights: Vec<FogLight>,
+    (lights, light_shadows): (Vec<FogLight>, Vec<ExtractedLightShadow>),
     volumes: &[(FroxelFogVolume, Mat4)],
 ) -> Result<ExtractedFroxelFog, InvalidValue> {
     check(
@@ -356,6 +384,13 @@ fn extracted<'a>(
         jitter: fog.temporal,
         temporal: fog.temporal,
         history_weight: fog.history_weight,
+        // Bevy's point light cubes and spot light maps (in the directional light
+        // texture), filtered into volfog's local-light atlas.
+        local_shadows: local_shadow_config(
+            fog,
+            scene.point_shadow_map_size,
+            scene.shadow_map_size,
+        )?,
         ..FogConfig::default()
     };
     config.validate().map_err(|e| renamed(e, fog))?;
@@ -368,6 +403,7 @@ fn extracted<'a>(
         sun,
         ambient,
         lights,
+        light_shadows,
         volumes,
         cascades,
         tail,
@@ -400,6 +436,9 @@ fn renamed(mut e: InvalidValue, fog: &FroxelFog) -> InvalidValue {
         "FogMedium.noise_strength" => "FroxelFog.medium.noise_strength",
         "FogMedium.noise_scale" => "FroxelFog.medium.noise_scale",
         "FogMedium.phase_g" => "FroxelFog.medium.phase_g",
+        "LocalShadowConfig.spot_shadows" => "FroxelFog.spot_shadows",
+        "LocalShadowConfig.point_shadows" => "FroxelFog.point_shadows",
+        "LocalShadowConfig.exponent" => "FroxelFog.light_shadow_exponent",
         other => other,
     };
     e

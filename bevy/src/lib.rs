@@ -65,6 +65,7 @@
 //! ```
 
 mod extract;
+mod light_shadows;
 pub mod material;
 mod render;
 mod settings;
@@ -78,6 +79,7 @@ use bevy::prelude::*;
 use bevy::render::{Render, RenderApp, RenderSystems};
 
 pub use extract::{ExtractedFroxelFog, MAX_VOLUMES, TILE_SIZE};
+pub use light_shadows::{ExtractedLightShadow, light_shadow_resolution};
 pub use material::FoggedGlassMaterial;
 pub use render::{FogViews, ViewFog};
 pub use settings::{FogMediumSettings, FogVolumeShape, FroxelFog, FroxelFogVolume};
@@ -135,6 +137,7 @@ struct FogKey {
     fog: FroxelFog,
     viewport: Option<UVec2>,
     shadow_map: usize,
+    point_shadow_map: usize,
     cascades: usize,
 }
 
@@ -147,6 +150,7 @@ fn refresh_materials_on_rebuild(
         Option<&bevy::light::Cascades>,
     )>,
     shadow_map: Res<bevy::light::DirectionalLightShadowMap>,
+    point_shadow_map: Res<bevy::light::PointLightShadowMap>,
     mut materials: ResMut<Assets<FoggedGlassMaterial>>,
     mut seen: Local<Vec<(Entity, FogKey)>>,
 ) {
@@ -163,6 +167,7 @@ fn refresh_materials_on_rebuild(
                 fog: fog.clone(),
                 viewport: camera.physical_viewport_size(),
                 shadow_map: shadow_map.size,
+                point_shadow_map: point_shadow_map.size,
                 cascades,
             };
             (entity, key)

@@ -13,6 +13,7 @@ use volfog::pipeline::apply::ApplyPipeline;
 use volfog::pipeline::{FogError, VolumetricFog};
 
 use crate::extract::ExtractedFroxelFog;
+use crate::light_shadows::{BevyLights, BevyShadowLayout};
 
 /// The fog of every fog camera, by render-world view entity.
 #[derive(Resource, Default)]
@@ -131,6 +132,9 @@ pub struct ViewFog {
     pub fog: VolumetricFog,
     apply: Option<(wgpu::TextureFormat, ApplyPipeline)>,
     shadow_map: Option<wgpu::Texture>,
+    /// Bevy's point light cube array and directional (and spot) light array, as set.
+    point_maps: Option<wgpu::Texture>,
+    spot_maps: Option<wgpu::Texture>,
     depth: Option<(wgpu::Texture, wgpu::BindGroup)>,
     ready: bool,
 }
@@ -177,6 +181,8 @@ pub fn build_froxel_fog(
                         fog,
                         apply: None,
                         shadow_map: None,
+                        point_maps: None,
+                        spot_maps: None,
                         depth: None,
                         ready: false,
                     },
@@ -191,16 +197,19 @@ pub fn build_froxel_fog(
     }
 }
 
-/// Binds each view's shadow map and depth buffer (once Bevy has prepared them) and
-/// uploads the frame's inputs. A view whose fog fails is warned about once and left
-/// without fog this frame.
+/// Binds each view's shadow maps (the sun's cascades, the point and spot lights' maps)
+/// and depth buffer (once Bevy has prepared them) and uploads the frame's inputs. A
+/// view whose fog fails is warned about once and left without fog this frame.
 pub fn prepare_froxel_fog(
     views: Query<ViewItems>,
     device: Res<RenderDevice>,
     queue: Res<RenderQueue>,
     mut fogs: ResMut<FogViews>,
+    lights: BevyLights,
     mut warned: Local<HashSet<Entity>>,
 ) {
+    let layers = device.limits().max_texture_array_layers as usize;
+    let layout = lights.layout(layers);
     for (entity, extracted, target, depth, shadows) in &views {
         let Some(view) = fogs.views.get_mut(&entity) else {
             continue;
@@ -211,7 +220,7 @@ pub fn prepare_froxel_fog(
             extracted,
             target,
             depth,
-            shadows,
+            shadows.map(|s| (s, layout.as_ref())),
             device.wgpu_device(),
             &queue,
         ) {
@@ -233,12 +242,19 @@ fn prepare_view(
     extracted: &ExtractedFroxelFog,
     target: &ViewTarget,
     depth: &ViewDepthStencilTexture,
-    shadows: Option<&ViewShadowBindings>,
+    shadows: Option<(&ViewShadowBindings, Option<&BevyShadowLayout>)>,
     device: &wgpu::Device,
     queue: &wgpu::Queue,
 ) -> Result<(), FogError> {
     let mut inputs = extracted.inputs();
-    match shadows {
+    let shadowed = match shadows {
+        Some((bindings, Some(layout))) => {
+            bind_light_shadows(view, extracted, bindings, layout, device)?
+        }
+        _ => Vec::new(),
+    };
+    inputs.shadowed_lights = &shadowed;
+    match shadows.map(|(b, _)| b) {
         Some(bindings) if inputs.cascades.count > 0 => {
             let texture: &wgpu::Texture = &bindings.directional_light_depth_texture;
             if view.shadow_map.as_ref() != Some(texture) {
@@ -268,6 +284,39 @@ fn prepare_view(
     }
     view.fog.prepare(queue, &inputs)?;
     Ok(())
+}
+
+/// Sets Bevy's point and spot light shadow textures as the fog's depth maps (when they
+/// change) and returns the frame's shadowed lights in them.
+fn bind_light_shadows(
+    view: &mut ViewFog,
+    extracted: &ExtractedFroxelFog,
+    bindings: &ViewShadowBindings,
+    layout: &BevyShadowLayout,
+    device: &wgpu::Device,
+) -> Result<Vec<volfog::pipeline::ShadowedLight>, FogError> {
+    let Some(local) = extracted.config.local_shadows else {
+        return Ok(Vec::new());
+    };
+    let points: &wgpu::Texture = &bindings.point_light_depth_texture;
+    if local.point_shadows > 0 && view.point_maps.as_ref() != Some(points) {
+        view.fog.set_point_shadow_maps(device, points)?;
+        view.point_maps = Some(points.clone());
+    }
+    let spots: &wgpu::Texture = &bindings.directional_light_depth_texture;
+    if local.spot_shadows > 0 && view.spot_maps.as_ref() != Some(spots) {
+        view.fog.set_spot_shadow_maps(device, spots)?;
+        view.spot_maps = Some(spots.clone());
+    }
+    let spot_base = layout.spot_base(spots.size().depth_or_array_layers);
+    Ok(layout
+        .shadowed_lights(extracted, spot_base)
+        .into_iter()
+        .filter(|s| match s.camera {
+            volfog::uniforms::LightCamera::Point { .. } => local.point_shadows > 0,
+            volfog::uniforms::LightCamera::Spot { .. } => local.spot_shadows > 0,
+        })
+        .collect())
 }
 
 /// Runs the fog passes of the current view and composites the fog over its opaque

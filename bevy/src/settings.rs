@@ -6,9 +6,11 @@ use bevy::prelude::*;
 /// Froxel volumetric fog for a 3D camera: add it next to `Camera3d`. The fog is
 /// computed in a volume of froxels (screen tiles x depth slices) from the camera's
 /// near fog plane to `far`, lit by the first shadow-casting `DirectionalLight` (through
-/// its shadow cascades), the `PointLight`s and `SpotLight`s (the first 64 found) and
-/// the global ambient light, and applied to the opaque scene before the transparent pass and
-/// tonemapping. Beyond `far` an analytic height-fog tail continues it.
+/// its shadow cascades), the `PointLight`s and `SpotLight`s (the first 64 found, those
+/// with `shadow_maps_enabled` first; up to `point_shadows` and `spot_shadows` of them
+/// through Bevy's own shadow maps) and the global ambient light, and applied to the
+/// opaque scene before the transparent pass and tonemapping. Beyond `far` an analytic
+/// height-fog tail continues it.
 ///
 /// Values out of range switch the fog off for this camera with one warning naming
 /// the field and its range. The camera must render without MSAA (`Msaa::Off`).
@@ -47,10 +49,24 @@ pub struct FroxelFog {
     /// less light leaking behind occluders, at depths relative to each cascade's
     /// depth range.
     pub esm_exponent: f32,
+    /// Shadowed `SpotLight`s the fog takes per frame (`volfog::limits::SPOT_SHADOWS`,
+    /// 0..=16): spot lights with `shadow_maps_enabled` are shadowed in the fog through
+    /// Bevy's own shadow maps, the nearest to the camera first (by the distance to the
+    /// light's range sphere); the others light the fog unshadowed.
+    pub spot_shadows: u32,
+    /// Shadowed `PointLight`s the fog takes per frame (`volfog::limits::POINT_SHADOWS`,
+    /// 0..=8), chosen as `spot_shadows`: each takes six atlas layers.
+    pub point_shadows: u32,
+    /// Exponent of the point and spot lights' exponential shadow maps in the fog, on
+    /// depths relative to each light's range ((0, 1e4], log-space ESM): behind an
+    /// occluder the fog gets under 5 % of the light once it is `3 range /
+    /// light_shadow_exponent` m behind it (plus the light's `shadow_depth_bias`).
+    pub light_shadow_exponent: f32,
 }
 
 impl Default for FroxelFog {
     fn default() -> Self {
+        let local = volfog::pipeline::LocalShadowConfig::default();
         Self {
             tile_size: 8,
             slices: 128,
@@ -65,6 +81,9 @@ impl Default for FroxelFog {
             light_scattering: 1.0,
             ambient_scattering: 1.0,
             esm_exponent: 300.0,
+            spot_shadows: local.spot_shadows,
+            point_shadows: local.point_shadows,
+            light_shadow_exponent: local.exponent,
         }
     }
 }

@@ -149,6 +149,20 @@ fn out_of_range_settings_turn_the_fog_off_with_one_warning() {
             },
             "FroxelFog.medium.density",
         ),
+        (
+            FroxelFog {
+                spot_shadows: 100,
+                ..good.clone()
+            },
+            "FroxelFog.spot_shadows",
+        ),
+        (
+            FroxelFog {
+                light_shadow_exponent: 0.0,
+                ..good.clone()
+            },
+            "FroxelFog.light_shadow_exponent",
+        ),
     ] {
         let before = volfog_warnings().len();
         app.world_mut().entity_mut(camera).insert(bad);
