@@ -142,19 +142,7 @@ fn atlas_and_inject_match_the_cpu_mirror() {
         let want = cpu_volume(&config, &frame, &atlas, &projections, &[]);
         let worst = worst_relative(&got, &want, 1e-3);
         // How much the shadows take from the lights: the same frame unshadowed.
-        let open = cpu_volume(
-            &config,
-            &frame,
-            &atlas,
-            &projections
-                .iter()
-                .map(|p| LightProjection {
-                    layer: LOCAL_SHADOW_NONE,
-                    ..*p
-                })
-                .collect::<Vec<_>>(),
-            &[],
-        );
+        let open = cpu_volume(&config, &frame, &atlas, &unshadowed(&projections), &[]);
         let shadowed_froxels = got
             .iter()
             .zip(&open)

@@ -106,24 +106,16 @@ fn a_glowing_volume_without_extinction_adds_its_emission_times_its_chord() {
     let mut fog = VolumetricFog::new(&gpu.device, &config).unwrap();
     let got = run_integrated(&mut fog, &frame);
     let size = config.volume_size;
-    let backs = slice_backs(&config);
     let (mut worst, mut hits, mut mean) = (0.0f32, 0, 0.0f64);
     for y in 0..size.y {
         for x in 0..size.x {
-            let (eye, dir) = column_ray(&config, &frame, x, y);
-            let t = ray_unit_box(
-                volume.local_from_world.transform_point3(eye),
-                volume.local_from_world.transform_vector3(dir),
+            let (chord, thickest) = column_chord(
+                &config,
+                &frame,
+                volume.local_from_world,
+                ray_unit_box,
+                (x, y),
             );
-            // The chord (m) within the volume's view depths [near, far].
-            let (a, b) = (t.x.max(config.near), t.y.min(config.far));
-            let chord = (b - a).max(0.0) * dir.length();
-            // The slices the chord's ends fall in, and the edge band, bound the error.
-            let thickest = backs
-                .windows(2)
-                .filter(|w| w[1] >= a && w[0] <= b)
-                .map(|w| (w[1] - w[0]) * dir.length())
-                .fold(0.0f32, f32::max);
             // Both ends: a slice each, and the edge band (edge times the largest half
             // extent, 2.5 m) at twice its width for oblique entries.
             let slack = 2.0 * thickest + 2.0 * (2.0 * edge * 2.5);

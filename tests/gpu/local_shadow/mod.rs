@@ -445,3 +445,89 @@ pub(super) fn run_integrated(fog: &mut VolumetricFog, inputs: &FrameInputs<'_>) 
     );
     out
 }
+
+/// The projections with their shadows taken away (what the frame would be without
+/// them; cookies kept).
+pub(super) fn unshadowed(projections: &[LightProjection]) -> Vec<LightProjection> {
+    projections
+        .iter()
+        .map(|p| LightProjection {
+            layer: LOCAL_SHADOW_NONE,
+            ..*p
+        })
+        .collect()
+}
+
+/// The chord (m) of froxel column (x, y)'s centre ray through a volume's unit shape,
+/// within the froxel volume's view depths, and the thickest slice it enters or leaves
+/// through (the error a slice at each end can make). `chord_of` is the shape's
+/// analytic chord in local space (`ray_unit_box`, `ray_unit_cylinder`, ...).
+pub(super) fn column_chord(
+    config: &FogConfig,
+    inputs: &FrameInputs<'_>,
+    local_from_world: Mat4,
+    chord_of: fn(Vec3, Vec3) -> glam::Vec2,
+    (x, y): (u32, u32),
+) -> (f32, f32) {
+    let (eye, dir) = column_ray(config, inputs, x, y);
+    let t = chord_of(
+        local_from_world.transform_point3(eye),
+        local_from_world.transform_vector3(dir),
+    );
+    let (a, b) = (t.x.max(config.near), t.y.min(config.far));
+    let thickest = slice_backs(config)
+        .windows(2)
+        .filter(|w| w[1] >= a && w[0] <= b)
+        .map(|w| (w[1] - w[0]) * dir.length())
+        .fold(0.0f32, f32::max);
+    ((b - a).max(0.0) * dir.length(), thickest)
+}
+
+/// One shadowed light in a scene, run through the fog: the GPU volume, the CPU
+/// mirror's, the mirror's without the shadow, and the froxel positions.
+pub(super) struct OneLight {
+    pub(super) maps: Vec<Vec<f32>>,
+    pub(super) got: Vec<Vec4>,
+    pub(super) want: Vec<Vec4>,
+    pub(super) open: Vec<Vec4>,
+    pub(super) positions: Vec<Vec3>,
+}
+
+/// Renders `light`'s depth maps of `map` texels from `camera`, sets them, runs a frame
+/// of homogeneous fog seen from `view` and computes its mirrors.
+pub(super) fn one_light(
+    config: &FogConfig,
+    light: FogLight,
+    camera: LightCamera,
+    occluders: &[Occluder],
+    map: u32,
+    view: (Mat4, Mat4),
+) -> OneLight {
+    let device = &gpu().device;
+    let maps = render_camera(occluders, &camera, map);
+    let mut fog = VolumetricFog::new(device, config).unwrap();
+    let point = matches!(camera, LightCamera::Point { .. });
+    let texture = depth_texture(&maps, map);
+    if point {
+        fog.set_point_shadow_maps(device, &texture).unwrap();
+    } else {
+        fog.set_spot_shadow_maps(device, &texture).unwrap();
+    }
+    let lights = [light];
+    let shadowed = [ShadowedLight::new(0, camera).with_shadow(0)];
+    let frame = inputs(view, medium(0.05), &lights, &shadowed, &[]);
+    let got = run(&mut fog, &frame);
+    let (spot_maps, point_maps) = if point {
+        (&[][..], &maps[..])
+    } else {
+        (&maps[..], &[][..])
+    };
+    let (atlas, projections) = cpu_atlas(config, &lights, &shadowed, spot_maps, point_maps, map);
+    OneLight {
+        want: cpu_volume(config, &frame, &atlas, &projections, &[]),
+        open: cpu_volume(config, &frame, &atlas, &unshadowed(&projections), &[]),
+        positions: froxel_positions(config, &frame),
+        maps,
+        got,
+    }
+}

@@ -49,7 +49,6 @@ fn footprint_depth(
 
 #[test]
 fn a_point_light_in_a_closed_room_lights_no_fog_outside() {
-    let gpu = gpu();
     let occluders = walls(ROOM_MIN, ROOM_MAX, WALL);
     let lamp = FogLight::point(Vec3::new(0.4, 1.6, -8.3), Vec3::new(60.0, 45.0, 30.0), 12.0);
     for (log_space, exponent) in [(false, 80.0), (true, 400.0)] {
@@ -62,30 +61,14 @@ fn a_point_light_in_a_closed_room_lights_no_fog_outside() {
         let config = config(local, log_space);
         let map = 128;
         let cam = LightCamera::point(&lamp, 0.05).unwrap();
-        let maps = render_camera(&occluders, &cam, map);
-        let mut fog = VolumetricFog::new(&gpu.device, &config).unwrap();
-        fog.set_point_shadow_maps(&gpu.device, &depth_texture(&maps, map))
-            .unwrap();
-        let lights = [lamp];
-        let shadowed = [ShadowedLight::new(0, cam).with_shadow(0)];
-        let frame = inputs(
-            camera(Vec3::new(0.5, 1.7, -0.5), Vec3::new(0.0, 1.5, -9.0)),
-            medium(0.05),
-            &lights,
-            &shadowed,
-            &[],
-        );
-        let got = run(&mut fog, &frame);
-        let (atlas, projections) = cpu_atlas(&config, &lights, &shadowed, &[], &maps, map);
-        let open: Vec<LightProjection> = projections
-            .iter()
-            .map(|p| LightProjection {
-                layer: LOCAL_SHADOW_NONE,
-                ..*p
-            })
-            .collect();
-        let unshadowed = cpu_volume(&config, &frame, &atlas, &open, &[]);
-        let positions = froxel_positions(&config, &frame);
+        let view = camera(Vec3::new(0.5, 1.7, -0.5), Vec3::new(0.0, 1.5, -9.0));
+        let OneLight {
+            maps,
+            got,
+            open: unshadowed,
+            positions,
+            ..
+        } = one_light(&config, lamp, cam, &occluders, map, view);
 
         let band = 3.0 * lamp.range / exponent;
         // Shadow-map texels each side of a filtered atlas texel: the blur radius and

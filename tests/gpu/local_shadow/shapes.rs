@@ -131,22 +131,11 @@ fn froxel_optical_depth_through_cylinders_and_cones_matches_their_chords() {
         let mut fog = VolumetricFog::new(&gpu.device, &config).unwrap();
         let got = run_integrated(&mut fog, &frame);
         let size = config.volume_size;
-        let backs = slice_backs(&config);
         let (mut worst, mut hits, mut mean) = (0.0f32, 0, 0.0f64);
         for y in 0..size.y {
             for x in 0..size.x {
-                let (eye, dir) = column_ray(&config, &frame, x, y);
-                let t = chord_of(
-                    volume.local_from_world.transform_point3(eye),
-                    volume.local_from_world.transform_vector3(dir),
-                );
-                let (a, b) = (t.x.max(config.near), t.y.min(config.far));
-                let chord = (b - a).max(0.0) * dir.length();
-                let thickest = backs
-                    .windows(2)
-                    .filter(|w| w[1] >= a && w[0] <= b)
-                    .map(|w| (w[1] - w[0]) * dir.length())
-                    .fold(0.0f32, f32::max);
+                let (chord, thickest) =
+                    column_chord(&config, &frame, volume.local_from_world, chord_of, (x, y));
                 // Both ends: a slice each and the edge band (edge times the largest
                 // half extent, 2 m, at twice its width for oblique entries); and the
                 // transmittance's rgba16float rounding.

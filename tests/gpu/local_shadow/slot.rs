@@ -13,7 +13,6 @@ const SLOT: f32 = 0.3;
 
 #[test]
 fn a_spot_light_through_a_slot_lights_the_wedge_behind_it() {
-    let gpu = gpu();
     let occluders = [
         Occluder::aabb(
             Vec3::new(-8.0, -2.0, WALL_BACK),
@@ -40,32 +39,15 @@ fn a_spot_light_through_a_slot_lights_the_wedge_behind_it() {
         exponent: 80.0,
     };
     let config = config(local, false);
-    let map = 256;
     let cam = LightCamera::spot(&spot, 0.1).unwrap();
-    let maps = render_camera(&occluders, &cam, map);
-    let mut fog = VolumetricFog::new(&gpu.device, &config).unwrap();
-    fog.set_spot_shadow_maps(&gpu.device, &depth_texture(&maps, map))
-        .unwrap();
-    let lights = [spot];
-    let shadowed = [ShadowedLight::new(0, cam).with_shadow(0)];
-    let frame = inputs(
-        camera(Vec3::new(4.0, 3.0, -1.0), Vec3::new(0.0, 2.0, -11.0)),
-        medium(0.05),
-        &lights,
-        &shadowed,
-        &[],
-    );
-    let got = run(&mut fog, &frame);
-    let (atlas, projections) = cpu_atlas(&config, &lights, &shadowed, &maps, &[], map);
-    let open: Vec<LightProjection> = projections
-        .iter()
-        .map(|p| LightProjection {
-            layer: LOCAL_SHADOW_NONE,
-            ..*p
-        })
-        .collect();
-    let unshadowed = cpu_volume(&config, &frame, &atlas, &open, &[]);
-    let want = cpu_volume(&config, &frame, &atlas, &projections, &[]);
+    let view = camera(Vec3::new(4.0, 3.0, -1.0), Vec3::new(0.0, 2.0, -11.0));
+    let OneLight {
+        got,
+        want,
+        open: unshadowed,
+        positions,
+        ..
+    } = one_light(&config, spot, cam, &occluders, 256, view);
     let mirror = worst_relative(&got, &want, 1e-3);
 
     // The wedge in the shadow camera's tangent space: |y / depth| below the slot's
@@ -87,11 +69,7 @@ fn a_spot_light_through_a_slot_lights_the_wedge_behind_it() {
     let (mut lit, mut dark, mut between) = (0, 0, 0);
     let (mut worst_lit, mut worst_dark) = (1.0f32, 0.0f32);
     let mut widest = 0.0f32;
-    for ((g, u), p) in got
-        .iter()
-        .zip(&unshadowed)
-        .zip(froxel_positions(&config, &frame))
-    {
+    for ((g, u), p) in got.iter().zip(&unshadowed).zip(positions) {
         let open_light = u.truncate().max_element();
         if open_light < 1e-3 || p.z > WALL_BACK {
             continue;
