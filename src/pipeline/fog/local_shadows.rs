@@ -324,7 +324,6 @@ impl LocalShadows {
                 "each light at most once",
             )?;
             let depth_terms = s.camera.depth_terms()?;
-            limits::LOCAL_SHADOW_BIAS.check("ShadowedLight.bias", s.bias)?;
             let point = matches!(s.camera, LightCamera::Point { .. });
             let cookie = match s.cookie {
                 None => LOCAL_SHADOW_NONE,
@@ -403,15 +402,14 @@ impl LocalShadows {
                 }
             }
             out[s.light as usize].projection = projections.len() as u32;
-            projections.push(LightProjection {
-                light_from_world: s.camera.light_from_world(),
-                depth_range: light.range,
-                exponent: self.config.exponent,
-                bias: s.bias,
-                kind: s.camera.kind(),
+            projections.push(LightProjection::new(
+                light,
+                &s.camera,
                 layer,
                 cookie,
-            });
+                self.config.exponent,
+                s.bias,
+            )?);
         }
         stats.spot_shadows = spots;
         stats.point_shadows = points;
