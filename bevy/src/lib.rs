@@ -45,7 +45,8 @@
 //! Add [`VolumetricFogPlugin`], put [`FroxelFog`] on a `Camera3d` (with `Msaa::Off`)
 //! and, if you like, [`FroxelFogVolume`]s in the scene. The fog is lit by the first
 //! `DirectionalLight` through its shadow cascades, by every `PointLight` and
-//! `SpotLight`, and by the `GlobalAmbientLight`; it is applied to the opaque scene
+//! `SpotLight` (those with shadows through Bevy's own shadow maps, within
+//! [`FroxelFog`]'s budget), and by the `GlobalAmbientLight`; it is applied to the opaque scene
 //! after Bevy's opaque pass, and transparent materials apply it themselves by
 //! importing the `volfog` WESL package (see [`FoggedGlassMaterial`]).
 //!
