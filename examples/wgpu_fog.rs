@@ -30,7 +30,11 @@ fn main() -> Result {
         "docs/wgpu.md: VolumetricFog with shadows, culling, a light and the tail",
         shadowed_frame,
     )?;
-    run(&gpu, "docs/wgpu.md: shadowed lamps and a cookie", shadowed_lamps)?;
+    run(
+        &gpu,
+        "docs/wgpu.md: shadowed lamps and a cookie",
+        shadowed_lamps,
+    )?;
     run(&gpu, "docs/wgpu.md: epipolar sun shafts", epipolar_shafts)?;
     Ok(())
 }
