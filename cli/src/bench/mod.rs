@@ -15,7 +15,11 @@
 //! 6. epipolar sun shafts at 1080p: the min/max tree march against the march of the
 //!    same samples over every section of the shadow map, and the whole epipolar path
 //!    (tree build included) against the per-pixel brute-force march, with the error of
-//!    its image against that reference.
+//!    its image against that reference;
+//! 7. four spot and two point lights over the same scene and medium, unshadowed and
+//!    shadowed through the local-light ESM atlas (depth maps ray cast on the CPU from
+//!    the scene's geometry): inject with and without the shadows and compiled without
+//!    them (`FogConfig::local_shadows` `None`), and the atlas pass.
 //!
 //! Every pass is submitted alone and waited for, and timed by GPU timestamp queries
 //! (`wgpu::Features::TIMESTAMP_QUERY`, required) and by the wall time from submission
@@ -27,6 +31,7 @@
 //! reported by its median over the measured frames with min, max, p10 and p90, printed
 //! as a table and written as JSON. The targets are printed, never asserted.
 
+mod local_lights;
 mod passes;
 pub mod raymarch;
 mod report;
@@ -46,14 +51,15 @@ use volfog_testkit::{Gpu, GpuError};
 use raymarch::{RAYMARCH_STEPS, Raymarch, RaymarchOptions, ShaderError};
 use scene::Scene;
 
+use local_lights::*;
 use passes::*;
 pub use report::*;
 use workloads::*;
 
 /// Warm-up frames of a default run. On lavapipe (Mesa 22.3, 2 CPU cores) a frame of
-/// every workload but the raymarch takes 3 to 5 s of wall time and a 1080p raymarch
-/// about 8 s, so the default run (2 + 7 frames, 1 + 2 of them with the raymarch) takes
-/// about a minute and `--quick` about half of that.
+/// every workload but the raymarch takes about 5 s of wall time and a 1080p raymarch
+/// about 9 s, so the default run (2 + 7 frames, 1 + 2 of them with the raymarch) takes
+/// about two minutes and `--quick` about half of that.
 pub const DEFAULT_WARMUP: u32 = 2;
 /// Measured frames of a default run.
 pub const DEFAULT_FRAMES: u32 = 7;
@@ -90,6 +96,9 @@ const TARGET_SCREEN: f64 = 1.05;
 const TARGET_TREE_MARCH: f64 = 5.0;
 /// Target: per-pixel brute force / the whole epipolar path at 1080p.
 const TARGET_EPIPOLAR: f64 = 4.0;
+/// Target: inject (and the atlas pass) with four spot and two point lights shadowed /
+/// inject with the same lights unshadowed (or compiled without local shadows).
+const TARGET_LOCAL_SHADOWS: f64 = 1.5;
 /// Target: GPU memory of `VolumetricFog` at the default configuration (MiB).
 const TARGET_MEMORY_MIB: f64 = 48.0;
 
@@ -311,13 +320,23 @@ fn run(args: &BenchArgs) -> Result<(), BenchError> {
     let live = volfog_testkit::scene::live_fraction(&gpu, &work.variants[3].fog)?
         .ok_or_else(|| BenchError::Readback("the live slices of a culling fog".to_string()))?;
     let shaft_image = work.shafts.image_error(&gpu)?;
+    let last = work
+        .scene
+        .inputs((plan.warmup + plan.frames) as f32 / 60.0, work.cascades);
+    work.local_lights.setup.light_through_shadows =
+        work.local_lights.light_through_shadows(&gpu, &last)?;
     let report = summarize(
         &gpu,
         clock,
         &plan,
         &work.config,
         &samples,
-        (memory_bytes, live, shaft_image),
+        Extra {
+            memory_bytes,
+            live_fraction: live,
+            shaft_image,
+            local_lights: work.local_lights.setup,
+        },
         start,
     );
     print!("{}", table(&report));

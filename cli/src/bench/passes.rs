@@ -112,10 +112,10 @@ impl Screen {
     /// Runs one frame, each pass (and the apply) submitted alone; returns its pass
     /// timings by both clocks.
     pub(super) fn frame(&mut self, gpu: &Gpu) -> Result<(PassTimings, PassTimings), BenchError> {
-        let mut gpu_ms = [0.0; 7];
-        let mut wall_ms = [0.0; 7];
+        let mut gpu_ms = PassTimings::default();
+        let mut wall_ms = PassTimings::default();
         let passes = FogPass::ALL.map(Some).into_iter().chain([None]);
-        for (i, pass) in passes.enumerate() {
+        for pass in passes {
             let mut encoder = gpu.device.create_command_encoder(&Default::default());
             match pass {
                 Some(pass) => self.fog.encode_pass(&mut encoder, pass)?,
@@ -127,31 +127,28 @@ impl Screen {
                 )?,
             }
             self.fog.resolve_timestamps(&mut encoder);
-            wall_ms[i] = submit_and_wait(gpu, encoder.finish())?;
-            let t = self
+            *timing(&mut wall_ms, pass) = submit_and_wait(gpu, encoder.finish())?;
+            let mut t = self
                 .fog
                 .read_timings(&gpu.device, &gpu.queue)
                 .ok_or_else(|| BenchError::Readback("VolumetricFog::read_timings".to_string()))?;
-            gpu_ms[i] = [
-                t.cull,
-                t.esm_downsample,
-                t.esm_blur,
-                t.inject,
-                t.temporal,
-                t.scan,
-                t.apply,
-            ][i];
+            *timing(&mut gpu_ms, pass) = *timing(&mut t, pass);
         }
-        let timings = |ms: [f64; 7]| PassTimings {
-            cull: ms[0],
-            esm_downsample: ms[1],
-            esm_blur: ms[2],
-            inject: ms[3],
-            temporal: ms[4],
-            scan: ms[5],
-            apply: ms[6],
-        };
-        Ok((timings(gpu_ms), timings(wall_ms)))
+        Ok((gpu_ms, wall_ms))
+    }
+}
+
+/// The field of `timings` that holds `pass` (`None`: the apply).
+fn timing(timings: &mut PassTimings, pass: Option<FogPass>) -> &mut f64 {
+    match pass {
+        Some(FogPass::Cull) => &mut timings.cull,
+        Some(FogPass::EsmDownsample) => &mut timings.esm_downsample,
+        Some(FogPass::EsmBlur) => &mut timings.esm_blur,
+        Some(FogPass::LocalShadows) => &mut timings.local_shadows,
+        Some(FogPass::Inject) => &mut timings.inject,
+        Some(FogPass::Temporal) => &mut timings.temporal,
+        Some(FogPass::Scan) => &mut timings.scan,
+        None => &mut timings.apply,
     }
 }
 

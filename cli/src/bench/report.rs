@@ -151,6 +151,52 @@ pub struct ShaftImage {
     pub memory_bytes: u64,
 }
 
+/// Four spot and two point lights over the bench scene, shadowed through the local-light
+/// ESM atlas against the same lights unshadowed and against them lit by an inject
+/// compiled without local shadows, in the same run.
+#[derive(Debug, Clone, Serialize)]
+pub struct LocalShadowCost {
+    /// Median inject with the lights shadowed / median inject with them unshadowed.
+    pub inject_shadowed_vs_unshadowed: Ratio,
+    /// Median (inject + atlas pass) with the lights shadowed / median inject with them
+    /// unshadowed.
+    pub total_shadowed_vs_unshadowed: Ratio,
+    /// Median inject with the lights shadowed / median inject of the same lights with
+    /// `FogConfig::local_shadows` `None` (compiled without local shadows).
+    pub inject_shadowed_vs_compiled_out: Ratio,
+    /// Median (inject + atlas pass) with the lights shadowed / median inject with
+    /// `local_shadows` `None`.
+    pub total_shadowed_vs_compiled_out: Ratio,
+    /// Median inject of the lights unshadowed / with `local_shadows` `None`: what
+    /// compiling the local shadows in costs lights without a shadow.
+    pub unshadowed_vs_compiled_out: f64,
+    /// Median atlas pass (downsample and blur of the frame's layers), ms.
+    pub atlas_ms: f64,
+    /// Bytes the atlas adds to `VolumetricFog::memory_bytes()` (the atlas and the
+    /// blur's scratch array).
+    pub atlas_bytes: u64,
+    /// The same in MiB.
+    pub atlas_mib: f64,
+    /// Atlas texels per side (`LocalShadowConfig::resolution`).
+    pub atlas_resolution: u32,
+    /// Atlas layers the frame filled (one per spot light, six per point light).
+    pub atlas_layers: u32,
+    /// Texels per side of the lights' depth maps.
+    pub depth_map_resolution: u32,
+    /// Bytes of the lights' depth maps (Depth32Float; the caller's textures).
+    pub depth_map_bytes: u64,
+    /// Spot lights shadowed.
+    pub spot_shadows: u32,
+    /// Point lights shadowed.
+    pub point_shadows: u32,
+    /// Lights beyond the budget, lit unshadowed.
+    pub over_budget: u32,
+    /// The six lights' in-scattering with their shadows / without (inject alone, the
+    /// sun, ambient light and emission off; rgb summed over every froxel): below 1 as
+    /// far as the shadows darken the fog in view.
+    pub light_through_shadows: f64,
+}
+
 /// Depth culling in the bench scene.
 #[derive(Debug, Clone, Serialize)]
 pub struct Culling {
@@ -217,8 +263,22 @@ pub struct Report {
     pub atmosphere: AtmosphereCost,
     /// Epipolar sun shafts.
     pub shafts: ShaftCost,
+    /// Shadowed point and spot lights.
+    pub local_shadows: LocalShadowCost,
     /// Wall-clock time of the whole run, seconds.
     pub wall_seconds: f64,
+}
+
+/// What a run measured besides the series.
+pub(super) struct Extra {
+    /// `VolumetricFog::memory_bytes()` at the default configuration.
+    pub(super) memory_bytes: u64,
+    /// The share of froxels the culling fog processed.
+    pub(super) live_fraction: f64,
+    /// The epipolar image against its references.
+    pub(super) shaft_image: ShaftImage,
+    /// The shadowed local lights' setup and what their frame got.
+    pub(super) local_lights: LocalLightSetup,
 }
 
 /// The report of a run: statistics per series, ratios and memory.
@@ -228,9 +288,15 @@ pub(super) fn summarize(
     plan: &Plan,
     config: &FogConfig,
     samples: &std::collections::BTreeMap<&str, Vec<Sample>>,
-    (memory_bytes, live_fraction, shaft_image): (u64, f64, ShaftImage),
+    extra: Extra,
     start: Instant,
 ) -> Report {
+    let Extra {
+        memory_bytes,
+        live_fraction,
+        shaft_image,
+        local_lights: local,
+    } = extra;
     let series = |k: &str, c: Clock| -> Vec<f64> {
         samples[k]
             .iter()
@@ -313,7 +379,42 @@ pub(super) fn summarize(
         image: shaft_image,
         reference_steps: volfog::uniforms::EpipolarSampling::new(1, 1, 64).reference_steps,
     };
-    let mib = memory_bytes as f64 / (1024.0 * 1024.0);
+    let local_shadows = LocalShadowCost {
+        inject_shadowed_vs_unshadowed: Ratio::at_most(
+            "median inject, 4 spot + 2 point lights shadowed / the same lights unshadowed",
+            median("local_inject_shadowed") / median("local_inject_unshadowed"),
+            TARGET_LOCAL_SHADOWS,
+        ),
+        total_shadowed_vs_unshadowed: Ratio::at_most(
+            "median (inject + local shadow atlas), shadowed / median inject, unshadowed",
+            median("local_shadowed_total") / median("local_inject_unshadowed"),
+            TARGET_LOCAL_SHADOWS,
+        ),
+        inject_shadowed_vs_compiled_out: Ratio::at_most(
+            "median inject, the lights shadowed / the same lights, local_shadows None",
+            median("local_inject_shadowed") / median("local_inject_compiled_out"),
+            TARGET_LOCAL_SHADOWS,
+        ),
+        total_shadowed_vs_compiled_out: Ratio::at_most(
+            "median (inject + local shadow atlas), shadowed / median inject, local_shadows None",
+            median("local_shadowed_total") / median("local_inject_compiled_out"),
+            TARGET_LOCAL_SHADOWS,
+        ),
+        unshadowed_vs_compiled_out: median("local_inject_unshadowed")
+            / median("local_inject_compiled_out"),
+        atlas_ms: median("local_shadow_atlas"),
+        atlas_bytes: local.atlas_bytes,
+        atlas_mib: to_mib(local.atlas_bytes),
+        atlas_resolution: local.atlas_size,
+        atlas_layers: local.stats.layers,
+        depth_map_resolution: local.map_size,
+        depth_map_bytes: local.map_bytes,
+        spot_shadows: local.stats.spot_shadows,
+        point_shadows: local.stats.point_shadows,
+        over_budget: local.stats.unshadowed,
+        light_through_shadows: local.light_through_shadows,
+    };
+    let mib = to_mib(memory_bytes);
     Report {
         adapter: gpu.info.name.clone(),
         adapter_details: gpu.describe(),
@@ -336,6 +437,7 @@ pub(super) fn summarize(
         culling,
         atmosphere,
         shafts,
+        local_shadows,
         memory: Memory {
             bytes: memory_bytes,
             mib,
@@ -344,6 +446,10 @@ pub(super) fn summarize(
         },
         wall_seconds: start.elapsed().as_secs_f64(),
     }
+}
+
+fn to_mib(bytes: u64) -> f64 {
+    bytes as f64 / (1024.0 * 1024.0)
 }
 
 pub(super) fn status(met: bool) -> &'static str {
@@ -383,6 +489,19 @@ pub fn table(report: &Report) -> String {
         "  + 1080p with the scene depth: culling, checkerboard amortisation, noise texture \
          (the rows without + are the baseline: none of them)"
     );
+    let l = &report.local_shadows;
+    let _ = writeln!(
+        out,
+        "  ++ baseline, the scene's lights replaced by {} spot + {} point lights; atlas {} layers \
+         of {}x{} from {}x{} depth maps; None: FogConfig::local_shadows None",
+        l.spot_shadows,
+        l.point_shadows,
+        l.atlas_layers,
+        l.atlas_resolution,
+        l.atlas_resolution,
+        l.depth_map_resolution,
+        l.depth_map_resolution
+    );
     let _ = writeln!(
         out,
         "\n{:<36} {:>10} {:>10}  status",
@@ -410,6 +529,19 @@ pub fn table(report: &Report) -> String {
         (
             "epipolar: per-pixel / epipolar path",
             &report.shafts.reference_vs_epipolar,
+        ),
+        (
+            "inject shadowed / unshadowed",
+            &l.inject_shadowed_vs_unshadowed,
+        ),
+        (
+            "(inject + atlas) / inject unshadowed",
+            &l.total_shadowed_vs_unshadowed,
+        ),
+        ("inject shadowed / None", &l.inject_shadowed_vs_compiled_out),
+        (
+            "(inject + atlas) / inject None",
+            &l.total_shadowed_vs_compiled_out,
         ),
     ] {
         let _ = writeln!(
@@ -457,7 +589,25 @@ pub fn table(report: &Report) -> String {
         out,
         "{:<36} {:>6.2} MiB",
         "EpipolarShafts::memory_bytes",
-        i.memory_bytes as f64 / (1024.0 * 1024.0)
+        to_mib(i.memory_bytes)
+    );
+    let _ = writeln!(
+        out,
+        "{:<36} {:>9.3}x  (lights without a shadow pay for the local shadows compiled in)",
+        "inject unshadowed / None", l.unshadowed_vs_compiled_out
+    );
+    let _ = writeln!(
+        out,
+        "{:<36} {:>6.2} MiB  (atlas pass {:.3} ms; the lights' depth maps {:.2} MiB, the caller's)",
+        "local shadow atlas memory",
+        l.atlas_mib,
+        l.atlas_ms,
+        to_mib(l.depth_map_bytes)
+    );
+    let _ = writeln!(
+        out,
+        "{:<36} {:>10.3}  (the six lights' in-scattering with / without their shadows)",
+        "light through the local shadows", l.light_through_shadows
     );
     let m = &report.memory;
     let _ = writeln!(

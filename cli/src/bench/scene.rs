@@ -1,6 +1,7 @@
 //! The benchmark scene: a ground plane with two rows of pillars joined by a lintel, a
 //! low sun whose four shadow cascades are ray cast on the CPU, eight coloured point and
-//! spot lights, animated noise fog with a height falloff and one local fog volume. The
+//! spot lights, animated noise fog with a height falloff and one local fog volume; and
+//! the depth maps of point and spot lights' shadow cameras, ray cast the same way. The
 //! camera stands still so every frame costs the same.
 
 use glam::{Mat4, Quat, Vec3, Vec4};
@@ -8,7 +9,7 @@ use volfog::cpu::ambient::AmbientSh;
 use volfog::pipeline::{FogConfig, FrameInputs};
 use volfog::pipeline::{cascade_projection, cascade_splits};
 use volfog::uniforms::{
-    DirectionalLight, FogLight, FogMedium, LocalVolume, ShadowCascades, VolumeShape,
+    DirectionalLight, FogLight, FogMedium, LightCamera, LocalVolume, ShadowCascades, VolumeShape,
 };
 
 /// Vertical field of view of the camera (radians).
@@ -263,6 +264,54 @@ impl Scene {
             front = back;
         }
         (cascades, layers)
+    }
+
+    /// The depth maps of a light's shadow camera over the ground and the boxes: one
+    /// layer for a spot camera, the six cube faces (+X, -X, +Y, -Y, +Z, -Z) for a point
+    /// camera; `size` texels per side, row by row from the top, each the depth value of
+    /// the camera's projection at the nearest hit (the far plane's where nothing is hit
+    /// before it). The cameras of [`LightCamera::spot`] and [`LightCamera::point`] have
+    /// standard depth (the far plane at 1).
+    pub fn light_depth(&self, camera: &LightCamera, size: u32) -> Vec<Vec<f32>> {
+        let views: Vec<Mat4> = match *camera {
+            LightCamera::Spot {
+                view_from_world, ..
+            } => vec![view_from_world],
+            LightCamera::Point {
+                cube_from_world, ..
+            } => (0..6)
+                .map(|face| LightCamera::cube_face_view(face) * cube_from_world)
+                .collect(),
+        };
+        let clip_from_view = camera.clip_from_view();
+        let view_from_clip = clip_from_view.inverse();
+        let depth_of = |view_depth: f32| {
+            let clip = clip_from_view * Vec4::new(0.0, 0.0, -view_depth, 1.0);
+            (clip.z / clip.w).clamp(0.0, 1.0)
+        };
+        let far = -view_from_clip.project_point3(Vec3::new(0.0, 0.0, 1.0)).z;
+        views
+            .into_iter()
+            .map(|view_from_world| {
+                let world_from_view = view_from_world.inverse();
+                let origin = world_from_view.transform_point3(Vec3::ZERO);
+                let texel = |t: usize| {
+                    let (x, y) = (t as u32 % size, t as u32 / size);
+                    let ndc = Vec3::new(
+                        (x as f32 + 0.5) / size as f32 * 2.0 - 1.0,
+                        1.0 - (y as f32 + 0.5) / size as f32 * 2.0,
+                        0.5,
+                    );
+                    // The ray through the texel, one metre of view depth per unit.
+                    let p = view_from_clip.project_point3(ndc);
+                    let dir = world_from_view.transform_vector3(p / -p.z);
+                    let per_depth = dir.length();
+                    self.trace(origin, dir / per_depth, far * per_depth)
+                        .map_or(1.0, |t| depth_of(t / per_depth))
+                };
+                parallel_map((size * size) as usize, texel)
+            })
+            .collect()
     }
 }
 

@@ -37,6 +37,11 @@ pub(super) const SERIES: &[(&str, &str)] = &[
     ("epipolar_march_steps", "epipolar march, every section"),
     ("epipolar_1080p", "epipolar shafts 1080p ***"),
     ("epipolar_reference_1080p", "per-pixel shafts 1080p"),
+    ("local_inject_compiled_out", "inject, 6 lights, None ++"),
+    ("local_inject_unshadowed", "inject, 6 lights unshadowed ++"),
+    ("local_inject_shadowed", "inject, 6 lights shadowed ++"),
+    ("local_shadow_atlas", "local shadow atlas ++"),
+    ("local_shadowed_total", "inject + atlas, shadowed ++"),
 ];
 
 pub(super) fn froxel_cost(t: &PassTimings) -> f64 {
@@ -124,6 +129,9 @@ pub(super) struct Workloads {
     pub(super) atmosphere: Atmosphere,
     /// Epipolar sun shafts over the main screen's depth.
     pub(super) shafts: Shafts,
+    /// Four spot and two point lights, unshadowed, shadowed and without local shadows
+    /// compiled in, over the main screen.
+    pub(super) local_lights: LocalLights,
 }
 
 impl Workloads {
@@ -189,6 +197,7 @@ impl Workloads {
             });
         let shafts = Shafts::new(gpu, &scene, &cascades, &depth, &shadow_map)?;
         let reference_group = reference.bind_group(&gpu.device, &esm_view, &main.depth);
+        let local_lights = LocalLights::new(gpu, &config, &scene, &shadow_map, &depth)?;
         Ok(Self {
             config,
             scene,
@@ -206,6 +215,7 @@ impl Workloads {
             timer: Timer::new(gpu, 8),
             atmosphere: Atmosphere::new(gpu, &depth)?,
             shafts,
+            local_lights,
         })
     }
 
@@ -240,6 +250,7 @@ impl Workloads {
         let blit_t = timer.run(gpu, 1, |e| self.blit.encode(e, timer, 1))?;
         let [sky_t, shadow_t, clouds_t] = self.atmosphere.frame(gpu, timer, f)?;
         let shafts = self.shafts.frame(gpu, timer, with_raymarch)?;
+        let local = self.local_lights.frame(gpu, &inputs, f)?;
         let index = self.main.fog.frame_index().expect("prepared above");
         let uniforms = inputs.uniforms(&self.config, index)?;
         self.reference.upload(
@@ -311,6 +322,11 @@ impl Workloads {
             ("epipolar_march_tree", shafts.march_tree),
             ("epipolar_march_steps", shafts.march_steps),
             ("epipolar_1080p", shafts.total),
+            ("local_inject_compiled_out", local.inject_compiled_out),
+            ("local_inject_unshadowed", local.inject_unshadowed),
+            ("local_inject_shadowed", local.inject_shadowed),
+            ("local_shadow_atlas", local.atlas),
+            ("local_shadowed_total", local.inject_shadowed + local.atlas),
         ]);
         samples.extend(raymarch_t.map(|r| ("raymarch_1080p", r)));
         samples.extend(shafts.reference.map(|r| ("epipolar_reference_1080p", r)));

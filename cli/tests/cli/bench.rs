@@ -1,5 +1,5 @@
 //! `volfog bench`: a quick run through the binary writes a complete JSON report
-//! (structure only: performance is never asserted), and the bench's per-pixel raymarch
+//! (structure and plausibility only: performance is never asserted), and the bench's per-pixel raymarch
 //! reference integrates the same medium as the froxel pipeline, so the comparison is
 //! like for like.
 
@@ -47,6 +47,13 @@ fn quick_bench_writes_every_ratio_memory_and_adapter() {
         "epipolar: per-pixel / epipolar path",
         "epipolar image: lit fraction error",
         "EpipolarShafts::memory_bytes",
+        "inject shadowed / unshadowed",
+        "(inject + atlas) / inject unshadowed",
+        "inject shadowed / None",
+        "(inject + atlas) / inject None",
+        "inject unshadowed / None",
+        "local shadow atlas memory",
+        "light through the local shadows",
         "VolumetricFog::memory_bytes",
     ] {
         assert!(stdout.contains(line), "the table lacks {line:?}");
@@ -130,10 +137,56 @@ fn quick_bench_writes_every_ratio_memory_and_adapter() {
         "epipolar_march_steps",
         "epipolar_1080p",
         "epipolar_reference_1080p",
+        "local_inject_compiled_out",
+        "local_inject_unshadowed",
+        "local_inject_shadowed",
+        "local_shadow_atlas",
+        "local_shadowed_total",
     ] {
         let median = passes[key]["median_ms"].as_f64().unwrap_or(f64::NAN);
         assert!(median.is_finite() && median > 0.0, "{key}: {median}");
     }
+    let local = &report["local_shadows"];
+    let ratio = |key: &str| {
+        let r = &local[key];
+        assert_eq!(r["target"], "<= 1.5", "{key}: {r}");
+        assert!(r["met"].is_boolean(), "{key}: {r}");
+        r["value"].as_f64().unwrap_or(f64::NAN)
+    };
+    let inject = ratio("inject_shadowed_vs_unshadowed");
+    let total = ratio("total_shadowed_vs_unshadowed");
+    assert!(
+        inject.is_finite() && inject > 0.5 && total > inject,
+        "local shadows: inject {inject}, with the atlas {total}: {local}"
+    );
+    let inject = ratio("inject_shadowed_vs_compiled_out");
+    let total = ratio("total_shadowed_vs_compiled_out");
+    assert!(
+        inject.is_finite() && inject > 0.5 && total > inject,
+        "against local_shadows None: inject {inject}, with the atlas {total}: {local}"
+    );
+    let compiled_in = local["unshadowed_vs_compiled_out"]
+        .as_f64()
+        .unwrap_or(f64::NAN);
+    assert!(compiled_in.is_finite() && compiled_in > 0.0, "{local}");
+    assert!(
+        local["atlas_ms"].as_f64().unwrap_or(f64::NAN) > 0.0,
+        "{local}"
+    );
+    assert_eq!(local["spot_shadows"], 4, "{local}");
+    assert_eq!(local["point_shadows"], 2, "{local}");
+    assert_eq!(local["over_budget"], 0, "{local}");
+    assert_eq!(local["atlas_layers"], 4 + 6 * 2, "{local}");
+    assert_eq!(local["atlas_resolution"], 256, "{local}");
+    assert_eq!(local["depth_map_resolution"], 1024, "{local}");
+    // The atlas and the blur's scratch array: 16 R32Float layers of 256 x 256 each.
+    assert_eq!(local["atlas_bytes"], 2 * 16 * 256 * 256 * 4, "{local}");
+    assert_eq!(local["depth_map_bytes"], 16 * 1024 * 1024 * 4, "{local}");
+    let lit = local["light_through_shadows"].as_f64().unwrap_or(f64::NAN);
+    assert!(
+        lit > 0.0 && lit < 1.0,
+        "the lights' shadows darken the fog the camera sees: {lit}"
+    );
     let bytes = report["memory"]["bytes"].as_u64().unwrap_or(0);
     assert!(bytes > 0, "memory figure: {}", report["memory"]);
     assert!(report["memory"]["met"].is_boolean());

@@ -1,0 +1,241 @@
+//! Shadowed point and spot lights over the bench scene: the same frame with six lights
+//! (four spot, two point) lit unshadowed and shadowed through the local-light ESM
+//! atlas, their depth maps ray cast from the scene's ground, pillars and lintels, and
+//! lit by an inject compiled without local shadows.
+
+use super::*;
+use glam::Vec3;
+use volfog::pipeline::{FrameInputs, LocalShadowStats, ShadowedLight};
+use volfog::uniforms::{FogLight, LightCamera};
+
+/// Depth-map texels per atlas texel (the atlas pass's downsample factor).
+pub(super) const MAP_FACTOR: u32 = 4;
+/// Near plane of the lights' shadow cameras (m).
+const SHADOW_NEAR: f32 = 0.1;
+/// Depth bias of the shadowed lights (m).
+const SHADOW_BIAS: f32 = 0.05;
+
+/// The six lights: two point lights in the aisle between the pillar rows, whose
+/// pillars and lintels cast shadows outward through the fog, and four spot lights
+/// outside the colonnade shining into the aisle past a pillar each.
+pub(super) fn lights() -> Vec<FogLight> {
+    let mut lights = Vec::new();
+    for (x, z) in [
+        (-10.0f32, -15.0f32),
+        (10.0, -24.0),
+        (-10.0, -33.0),
+        (10.0, -42.0),
+    ] {
+        let position = Vec3::new(x, 7.0, z);
+        lights.push(FogLight::spot(
+            position,
+            Vec3::new(0.0, 1.0, z) - position,
+            Vec3::new(60.0, 48.0, 32.0),
+            18.0,
+            0.3,
+            0.45,
+        ));
+    }
+    for (z, color) in [
+        (-10.5, Vec3::new(10.0, 28.0, 40.0)),
+        (-28.5, Vec3::new(40.0, 16.0, 8.0)),
+    ] {
+        lights.push(FogLight::point(Vec3::new(0.0, 3.0, z), color, 10.0));
+    }
+    lights
+}
+
+/// What was set up, for the report.
+#[derive(Debug, Clone, Copy)]
+pub(super) struct LocalLightSetup {
+    /// Texels per side of the lights' depth maps.
+    pub(super) map_size: u32,
+    /// Texels per side of the atlas maps.
+    pub(super) atlas_size: u32,
+    /// Bytes of the lights' depth maps (the caller's, not the fog's).
+    pub(super) map_bytes: u64,
+    /// Bytes the atlas adds to the fog (`memory_bytes` with it minus without).
+    pub(super) atlas_bytes: u64,
+    /// What the shadowed frame's lights got.
+    pub(super) stats: LocalShadowStats,
+    /// [`LocalLights::light_through_shadows`] after the measured frames.
+    pub(super) light_through_shadows: f64,
+}
+
+/// Samples of one frame of [`LocalLights`].
+pub(super) struct LocalLightSamples {
+    /// Inject of the six lights unshadowed.
+    pub(super) inject_unshadowed: Sample,
+    /// Inject of the six lights without local shadows compiled in.
+    pub(super) inject_compiled_out: Sample,
+    /// Inject of the six lights shadowed.
+    pub(super) inject_shadowed: Sample,
+    /// The atlas pass (downsample and blur of the frame's layers).
+    pub(super) atlas: Sample,
+}
+
+/// Three fogs of the bench's baseline configuration over the main screen: one lighting
+/// the six lights unshadowed, one shadowing them through its atlas, and one with
+/// `FogConfig::local_shadows` `None` (inject compiled without local shadows).
+pub(super) struct LocalLights {
+    lights: Vec<FogLight>,
+    shadowed_lights: Vec<ShadowedLight>,
+    unshadowed: Screen,
+    shadowed: Screen,
+    compiled_out: Screen,
+    pub(super) setup: LocalLightSetup,
+}
+
+impl LocalLights {
+    pub(super) fn new(
+        gpu: &Gpu,
+        config: &FogConfig,
+        scene: &Scene,
+        shadow_map: &wgpu::Texture,
+        depth: &wgpu::Texture,
+    ) -> Result<Self, BenchError> {
+        let local = config.local_shadows.unwrap_or_default();
+        let map_size = MAP_FACTOR * local.resolution;
+        let lights = lights();
+        let (mut spot_layers, mut point_layers) = (Vec::new(), Vec::new());
+        let mut shadowed_lights = Vec::new();
+        for (i, light) in lights.iter().enumerate() {
+            let point = light.cos_outer <= -1.0;
+            let camera = if point {
+                LightCamera::point(light, SHADOW_NEAR)?
+            } else {
+                LightCamera::spot(light, SHADOW_NEAR)?
+            };
+            let layers = if point {
+                &mut point_layers
+            } else {
+                &mut spot_layers
+            };
+            let map = (layers.len() / if point { 6 } else { 1 }) as u32;
+            layers.extend(scene.light_depth(&camera, map_size));
+            shadowed_lights.push(ShadowedLight {
+                bias: SHADOW_BIAS,
+                ..ShadowedLight::new(i as u32, camera).with_shadow(map)
+            });
+        }
+        let texture = |layers: &[Vec<f32>]| {
+            let slices: Vec<&[f32]> = layers.iter().map(Vec::as_slice).collect();
+            volfog_testkit::selfcheck::depth_array_texture(gpu, map_size, map_size, &slices)
+        };
+        let (spot_maps, point_maps) = (texture(&spot_layers)?, texture(&point_layers)?);
+        let unshadowed = Screen::new(gpu, config, shadow_map, depth, SCREEN)?;
+        let without = FogConfig {
+            local_shadows: None,
+            ..config.clone()
+        };
+        let compiled_out = Screen::new(gpu, &without, shadow_map, depth, SCREEN)?;
+        let mut shadowed = Screen::new(gpu, config, shadow_map, depth, SCREEN)?;
+        shadowed.fog.set_spot_shadow_maps(&gpu.device, &spot_maps)?;
+        shadowed
+            .fog
+            .set_point_shadow_maps(&gpu.device, &point_maps)?;
+        let map_bytes =
+            4 * u64::from(map_size * map_size) * (spot_layers.len() + point_layers.len()) as u64;
+        let atlas_bytes = shadowed.fog.memory_bytes() - unshadowed.fog.memory_bytes();
+        Ok(Self {
+            lights,
+            shadowed_lights,
+            unshadowed,
+            shadowed,
+            compiled_out,
+            setup: LocalLightSetup {
+                map_size,
+                atlas_size: local.resolution,
+                map_bytes,
+                atlas_bytes,
+                stats: LocalShadowStats::default(),
+                light_through_shadows: f64::NAN,
+            },
+        })
+    }
+
+    /// Frame `f` of the three fogs over the scene's `inputs` with the six lights in
+    /// place of the scene's (rotating which runs first so that drift cancels).
+    pub(super) fn frame(
+        &mut self,
+        gpu: &Gpu,
+        inputs: &FrameInputs<'_>,
+        f: u32,
+    ) -> Result<LocalLightSamples, BenchError> {
+        let unshadowed = FrameInputs {
+            lights: &self.lights,
+            shadowed_lights: &[],
+            ..inputs.clone()
+        };
+        let shadowed = FrameInputs {
+            shadowed_lights: &self.shadowed_lights,
+            ..unshadowed.clone()
+        };
+        self.unshadowed.fog.prepare(&gpu.queue, &unshadowed)?;
+        self.shadowed.fog.prepare(&gpu.queue, &shadowed)?;
+        self.compiled_out.fog.prepare(&gpu.queue, &unshadowed)?;
+        self.setup.stats = self.shadowed.fog.local_shadow_stats();
+        let screens = [
+            &mut self.unshadowed,
+            &mut self.shadowed,
+            &mut self.compiled_out,
+        ];
+        let mut timings = [(PassTimings::default(), PassTimings::default()); 3];
+        for k in 0..3 {
+            let which = (k + f as usize) % 3;
+            timings[which] = screens[which].frame(gpu)?;
+        }
+        let [u, s, c] = timings;
+        let both = |pick: fn(&PassTimings) -> f64, t: &(PassTimings, PassTimings)| Sample {
+            gpu: pick(&t.0),
+            cpu: pick(&t.1),
+        };
+        Ok(LocalLightSamples {
+            inject_unshadowed: both(|p| p.inject, &u),
+            inject_compiled_out: both(|p| p.inject, &c),
+            inject_shadowed: both(|p| p.inject, &s),
+            atlas: both(|p| p.local_shadows, &s),
+        })
+    }
+
+    /// The six lights' in-scattering through their shadows: `inputs` with the sun,
+    /// the ambient light and the emission off, inject alone (after the atlas pass), the
+    /// scattering volume of the shadowed fog (rgb summed over every froxel) over the
+    /// unshadowed one's. Run after the measured frames: it prepares a frame of its own.
+    pub(super) fn light_through_shadows(
+        &mut self,
+        gpu: &Gpu,
+        inputs: &FrameInputs<'_>,
+    ) -> Result<f64, BenchError> {
+        let unshadowed = FrameInputs {
+            medium: volfog::uniforms::FogMedium {
+                emission: Vec3::ZERO,
+                ..inputs.medium
+            },
+            sun: volfog::uniforms::DirectionalLight {
+                color: Vec3::ZERO,
+                ..inputs.sun
+            },
+            ambient: volfog::cpu::ambient::AmbientSh::constant(Vec3::ZERO),
+            lights: &self.lights,
+            shadowed_lights: &[],
+            ..inputs.clone()
+        };
+        let shadowed = FrameInputs {
+            shadowed_lights: &self.shadowed_lights,
+            ..unshadowed.clone()
+        };
+        let total = |screen: &mut Screen, inputs: &FrameInputs<'_>| {
+            screen.fog.prepare(&gpu.queue, inputs)?;
+            let mut encoder = gpu.device.create_command_encoder(&Default::default());
+            screen
+                .fog
+                .encode_pass(&mut encoder, FogPass::LocalShadows)?;
+            screen.fog.encode_pass(&mut encoder, FogPass::Inject)?;
+            submit_and_wait(gpu, encoder.finish())?;
+            let volume = gpu.read_texture_rgba16f(screen.fog.scattering_texture())?;
+            Ok::<f64, BenchError>(volume.iter().map(|v| f64::from(v.x + v.y + v.z)).sum())
+        };
+        Ok(total(&mut self.shadowed, &shadowed)? / total(&mut self.unshadowed, &unshadowed)?)
+    }
+}
