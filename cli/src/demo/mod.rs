@@ -2,21 +2,24 @@
 //! pipeline and writes PNGs.
 //!
 //! Once: the sky texture for the sun (`volfog::sky`, sky_solve). Per frame: shadow
-//! cascades (depth-only, one pass per layer) -> lit opaque pass and sky (sampled from
-//! the sky texture, the phase per pixel) -> the clouds' shadow on the lit scene and the
-//! distance clouds (`volfog::clouds`) -> fog prepare/encode (its sun term under the same
-//! cloud shadow) (froxel culling by this frame's depth buffer, ESM
-//! downsample, blur, inject, temporal, scan) -> fullscreen fog apply -> semi-transparent sphere fogged by the forward snippet ->
-//! tonemap. The camera moves along a short path so the temporal reprojection works on
-//! a moving view; the last frame is written as `DIR/demo.png`. The pool's water
+//! cascades (depth-only, one pass per layer) -> the lamp's cube shadow map (depth-only,
+//! one pass per face) -> lit opaque pass and sky (sampled from the sky texture, the
+//! phase per pixel) -> the clouds' shadow on the lit scene and the distance clouds
+//! (`volfog::clouds`) -> fog prepare/encode (its sun term under the same cloud shadow,
+//! the lamp a shadowed light) (froxel culling by this frame's depth buffer, ESM
+//! downsample, blur, the local-light atlas from the lamp's cube, inject, temporal,
+//! scan) -> fullscreen fog apply -> semi-transparent sphere fogged by the forward
+//! snippet -> tonemap. The camera moves along a short path so the temporal
+//! reprojection works on a moving view; the last frame is written as `DIR/demo.png`. The pool's water
 //! (`volfog::water`) is shaded in the opaque pass; then a second camera under water
 //! renders `DIR/underwater.png` (the froxel apply is skipped there: the opaque pass
 //! fogs what lies beyond the surface with the medium's analytic height fog).
 //!
 //! `--probe` also writes `DIR/probe/`: linear float images of the last frame (before
 //! the apply, after it, after the transparent pass, and with every surface black, which
-//! leaves only the fog's in-scattering), the depth buffer, and `probe.json` (camera,
-//! pass list, timings, volume statistics) for tests.
+//! leaves only the fog's in-scattering), the depth buffer, the ESM, the lamp's atlas
+//! maps, the integrated volume, and `probe.json` (camera, pass list, timings, volume
+//! statistics, the lamp and its wall) for tests.
 
 mod passes;
 mod report;
@@ -30,7 +33,7 @@ use volfog::limits::InvalidValue;
 use volfog::pipeline::FogError;
 use volfog_testkit::GpuError;
 
-use passes::Demo;
+use passes::{Demo, PASS_COUNT};
 use report::{print_timings, write_error, write_png, write_probe, write_underwater_probe};
 
 /// Options of `volfog demo`.
@@ -128,7 +131,7 @@ pub fn run(args: &DemoArgs) -> Result<(), DemoError> {
         std::fs::create_dir_all(&frames_dir).map_err(|e| write_error(&frames_dir, e))?;
     }
     let mut demo = Demo::new(args)?;
-    let mut times: Vec<[f64; 11]> = Vec::new();
+    let mut times: Vec<[f64; PASS_COUNT]> = Vec::new();
     let mut last = None;
     for frame in 0..args.frames {
         let frame_started = Instant::now();

@@ -1,4 +1,5 @@
-//! Recording the demo's passes: every shadow cascade, the lit opaque pass and sky,
+//! Recording the demo's passes: every shadow cascade, the lamp's six cube faces, the
+//! lit opaque pass and sky,
 //! the semi-transparent pass fogged by the forward snippet, the tonemap.
 
 use volfog::pipeline::VolumetricFog;
@@ -31,6 +32,32 @@ impl Renderer {
         }
     }
 
+    /// Renders the six faces of the lamp's cube shadow map (opaque geometry only; the
+    /// faces are mirrored views, and the shadow pipeline does not cull).
+    pub fn encode_lamp_shadow(&self, encoder: &mut wgpu::CommandEncoder) {
+        let last = self.lamp_faces.len() - 1;
+        for (face, view) in self.lamp_faces.iter().enumerate() {
+            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                label: Some("demo lamp shadow map"),
+                color_attachments: &[],
+                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                    view,
+                    depth_ops: Some(wgpu::Operations {
+                        load: wgpu::LoadOp::Clear(1.0),
+                        store: wgpu::StoreOp::Store,
+                    }),
+                    stencil_ops: None,
+                }),
+                timestamp_writes: self.render_timestamps(1, face == 0, face == last),
+                occlusion_query_set: None,
+                multiview_mask: None,
+            });
+            pass.set_pipeline(&self.shadow_pipeline);
+            pass.set_bind_group(0, &self.lamp_groups[face], &[]);
+            self.opaque.draw(&mut pass);
+        }
+    }
+
     /// The lit opaque pass and the sky: clears colour and depth.
     pub fn encode_opaque(&self, encoder: &mut wgpu::CommandEncoder, timed: bool) {
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
@@ -53,7 +80,7 @@ impl Renderer {
                 stencil_ops: None,
             }),
             timestamp_writes: if timed {
-                self.render_timestamps(1, true, true)
+                self.render_timestamps(2, true, true)
             } else {
                 None
             },
@@ -90,7 +117,7 @@ impl Renderer {
                 }),
                 stencil_ops: None,
             }),
-            timestamp_writes: self.render_timestamps(2, true, true),
+            timestamp_writes: self.render_timestamps(3, true, true),
             occlusion_query_set: None,
             multiview_mask: None,
         });
@@ -116,7 +143,7 @@ impl Renderer {
                 },
             })],
             depth_stencil_attachment: None,
-            timestamp_writes: self.render_timestamps(3, true, true),
+            timestamp_writes: self.render_timestamps(4, true, true),
             occlusion_query_set: None,
             multiview_mask: None,
         });

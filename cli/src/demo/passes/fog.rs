@@ -1,25 +1,31 @@
 //! The fog wired to the demo's passes: the demo's `FogConfig`, and `Demo`, which
 //! creates once and holds the adapter, the scene, the fog pipeline and its apply
-//! pass, the sky, the clouds and the demo's renderer.
+//! pass, the sky, the clouds, the lamp's shadow camera and the demo's renderer.
 
 use glam::{Mat4, Vec4};
 use volfog::pipeline::apply::ApplyPipeline;
 use volfog::pipeline::clouds::{CloudPasses, cloud_map_texture};
 use volfog::pipeline::sky::SkyLight;
-use volfog::pipeline::{FogConfig, VolumetricFog, cascade_splits};
-use volfog::uniforms::FrustumRays;
+use volfog::pipeline::{
+    FogConfig, LocalShadowConfig, ShadowedLight, VolumetricFog, cascade_splits,
+};
+use volfog::uniforms::{FrustumRays, LightCamera};
 use volfog_testkit::Gpu;
 
 use super::{HDR_FORMAT, Renderer};
-use crate::demo::scene::{self, FAR, FOV_Y, NEAR};
+use crate::demo::scene::{self, FAR, FOV_Y, LampYard, NEAR};
 use crate::demo::{DemoArgs, DemoError};
+
+/// Texels per side of the lamp's cube shadow map, per atlas texel.
+const LAMP_SHADOW_FACTOR: u32 = 2;
 
 /// The fog configuration of the demo. The ESM is 512 texels per cascade with a
 /// 3-tap blur: an exponential shadow map erodes occluders by its filter footprint
 /// (any unoccluded texel far behind the receiver dominates the filtered exponential),
 /// and the pillars must keep their shadows in the farther cascades. Log-space
 /// filtering allows the exponent of 200 (a leak band of 1.5 % of a cascade's depth
-/// range).
+/// range). The lamp's cube shadow map is filtered into a local-light atlas of 256
+/// texels per face (one shadowed point light), exponent 200 in log space as well.
 fn fog_config(args: &DemoArgs, timestamps: bool) -> FogConfig {
     FogConfig {
         volume_size: args.volume,
@@ -36,6 +42,12 @@ fn fog_config(args: &DemoArgs, timestamps: bool) -> FogConfig {
         noise_octaves: 2,
         cloud_shadow: true,
         timestamps,
+        local_shadows: Some(LocalShadowConfig {
+            spot_shadows: 0,
+            point_shadows: 1,
+            resolution: 256,
+            exponent: 200.0,
+        }),
         ..FogConfig::default()
     }
 }
@@ -60,6 +72,10 @@ pub struct Demo<'a> {
     /// group.
     pub clouds: CloudPasses,
     pub cloud_group: wgpu::BindGroup,
+    /// The lamp's cube shadow camera (what its shadow map is rendered with).
+    pub lamp_camera: LightCamera,
+    /// The lamp as the fog's one shadowed light (its cube 0 of the point shadow maps).
+    pub shadowed_lights: [ShadowedLight; 1],
 }
 
 impl<'a> Demo<'a> {
@@ -87,6 +103,9 @@ impl<'a> Demo<'a> {
         );
         let scene = scene::build()?;
         let config = fog_config(args, timestamps);
+        let lamp_light = scene.lamp.light;
+        let lamp_camera = LampYard::camera(&scene.lights[lamp_light as usize])?;
+        let lamp_size = config.local_shadows.map_or(256, |l| l.resolution) * LAMP_SHADOW_FACTOR;
         let mut fog = VolumetricFog::new(&gpu.device, &config)?;
         let mut sky = SkyLight::new(&gpu.device, HDR_FORMAT)
             .map_err(|e| DemoError::Pipeline(e.to_string()))?;
@@ -100,12 +119,15 @@ impl<'a> Demo<'a> {
                     &scene,
                     &fog,
                     &sky,
+                    &LampYard::face_matrices(&lamp_camera),
+                    lamp_size,
                     timestamps,
                 )
             })
             .map_err(|e| DemoError::Pipeline(e.to_string()))?
             .map_err(DemoError::Pipeline)?;
         fog.set_shadow_map(&gpu.device, renderer.shadow_map())?;
+        fog.set_point_shadow_maps(&gpu.device, renderer.lamp_shadow_map())?;
         // The opaque pass lays the depth out before the fog runs, so the fog culls the
         // froxels behind this frame's opaque surfaces.
         fog.set_scene_depth(&gpu.device, &renderer.depth, 0)?;
@@ -161,6 +183,8 @@ impl<'a> Demo<'a> {
             sky,
             clouds,
             cloud_group,
+            lamp_camera,
+            shadowed_lights: [ShadowedLight::new(lamp_light, lamp_camera).with_shadow(0)],
         })
     }
 }

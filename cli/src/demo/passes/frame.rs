@@ -1,5 +1,6 @@
 //! One frame of the demo: its camera, scene uniform and shadow cascades
-//! (`FrameSetup`), its passes in order, and their GPU times in `PASS_NAMES` order.
+//! (`FrameSetup`), its passes in order (the lamp passed to the fog as a shadowed
+//! light), and their GPU times in `PASS_NAMES` order.
 
 use glam::{Mat4, Vec3, Vec4};
 use volfog::pipeline::clouds::CloudDraw;
@@ -12,13 +13,17 @@ use crate::demo::scene::{self, FOV_Y};
 
 /// Seconds between frames (fog animation).
 const FRAME_TIME: f32 = 1.0 / 24.0;
+/// Number of timed passes.
+pub const PASS_COUNT: usize = 13;
 /// Names of every timed pass, in frame order.
-pub const PASS_NAMES: [&str; 11] = [
+pub const PASS_NAMES: [&str; PASS_COUNT] = [
     "shadow maps",
+    "lamp shadow map",
     "opaque + sky",
     "froxel cull",
     "esm downsample",
     "esm blur",
+    "local shadows",
     "inject",
     "temporal",
     "scan",
@@ -31,20 +36,22 @@ pub const PASS_NAMES: [&str; 11] = [
 fn frame_times(
     fog: Option<PassTimings>,
     demo: Option<[f64; DEMO_PASSES.len()]>,
-) -> Option<[f64; 11]> {
+) -> Option<[f64; PASS_COUNT]> {
     let (f, d) = (fog?, demo?);
     Some([
         d[0],
         d[1],
+        d[2],
         f.cull,
         f.esm_downsample,
         f.esm_blur,
+        f.local_shadows,
         f.inject,
         f.temporal,
         f.scan,
         f.apply,
-        d[2],
         d[3],
+        d[4],
     ])
 }
 
@@ -113,6 +120,8 @@ impl Demo<'_> {
             atmosphere: self.scene.atmosphere,
             pool_min: scene::POOL_MIN.extend(1.0),
             pool_max: scene::POOL_MAX.extend(0.0),
+            lamp_position: self.scene.lights[self.scene.lamp.light as usize].position,
+            lamp_index: self.scene.lamp.light,
         };
         let time = 3.0 + frame as f32 * FRAME_TIME;
         FrameSetup {
@@ -151,7 +160,7 @@ impl Demo<'_> {
         &mut self,
         setup: &FrameSetup,
         probe: bool,
-    ) -> Result<Option<[f64; 11]>, DemoError> {
+    ) -> Result<Option<[f64; PASS_COUNT]>, DemoError> {
         let (gpu, scene) = (&self.gpu, &self.scene);
         self.renderer.upload(
             &gpu.queue,
@@ -166,6 +175,7 @@ impl Demo<'_> {
                 sun: scene.sun,
                 ambient: scene.ambient(),
                 lights: &scene.lights,
+                shadowed_lights: &self.shadowed_lights,
                 local_volumes: &scene.local_volumes,
                 cascades: setup.cascades,
                 clouds: setup.clouds,
@@ -177,6 +187,7 @@ impl Demo<'_> {
         let probe = self.probe_textures.as_ref().filter(|_| probe);
         let mut encoder = gpu.device.create_command_encoder(&Default::default());
         self.renderer.encode_shadows(&mut encoder);
+        self.renderer.encode_lamp_shadow(&mut encoder);
         self.renderer.encode_opaque(&mut encoder, true);
         self.fog.encode(&mut encoder)?;
         if let Some([surface, _, _]) = probe {

@@ -1,5 +1,5 @@
-//! The demo's own passes around `VolumetricFog`: cascaded shadow maps, the lit opaque
-//! pass and sky, the semi-transparent pass (forward snippet), the tonemap, GPU
+//! The demo's own passes around `VolumetricFog`: cascaded shadow maps, the lamp's
+//! cube shadow map, the lit opaque pass and sky, the semi-transparent pass (forward snippet), the tonemap, GPU
 //! timestamps of these passes, and readbacks; and the fog wired to them.
 
 mod encode;
@@ -9,13 +9,14 @@ mod pipelines;
 mod resources;
 mod uniform;
 
+use glam::Mat4;
 use volfog::pipeline::VolumetricFog;
 use volfog::uniforms::{self, ShadowCascades};
 use volfog_testkit::gpu::texture_2d;
 use wgpu::util::DeviceExt;
 
 pub use fog::Demo;
-pub use frame::{FrameSetup, PASS_NAMES};
+pub use frame::{FrameSetup, PASS_COUNT, PASS_NAMES};
 use pipelines::Pipelines;
 use resources::Resources;
 pub use uniform::SceneUniform;
@@ -30,7 +31,13 @@ pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 pub const LDR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8UnormSrgb;
 
 /// The demo's own passes, timed with GPU timestamps when available.
-pub const DEMO_PASSES: [&str; 4] = ["shadow maps", "opaque + sky", "transparent", "tonemap"];
+pub const DEMO_PASSES: [&str; 5] = [
+    "shadow maps",
+    "lamp shadow map",
+    "opaque + sky",
+    "transparent",
+    "tonemap",
+];
 
 struct Geometry {
     vertices: wgpu::Buffer,
@@ -74,6 +81,9 @@ pub struct Renderer {
     ldr_view: wgpu::TextureView,
     shadow_map: wgpu::Texture,
     shadow_layers: Vec<wgpu::TextureView>,
+    lamp_map: wgpu::Texture,
+    lamp_faces: Vec<wgpu::TextureView>,
+    lamp_groups: Vec<wgpu::BindGroup>,
     opaque: Geometry,
     emissive: Geometry,
     glass: Geometry,
@@ -95,7 +105,9 @@ pub struct Renderer {
 }
 
 impl Renderer {
-    /// Creates targets, pipelines and buffers for a scene and a fog pipeline.
+    /// Creates targets, pipelines and buffers for a scene, a fog pipeline and the
+    /// lamp's cube faces (world -> clip of each, `lamp_size` texels per side).
+    #[allow(clippy::too_many_arguments)]
     pub fn new(
         device: &wgpu::Device,
         width: u32,
@@ -103,6 +115,8 @@ impl Renderer {
         scene: &Scene,
         fog: &VolumetricFog,
         sky: &volfog::pipeline::sky::SkyLight,
+        lamp_matrices: &[Mat4; 6],
+        lamp_size: u32,
         timestamps: bool,
     ) -> Result<Self, String> {
         let Resources {
@@ -111,6 +125,9 @@ impl Renderer {
             ldr,
             shadow_map,
             shadow_layers,
+            lamp_map,
+            lamp_faces,
+            lamp_groups,
             hdr_view,
             scene_buffer,
             cascades_buffer,
@@ -122,7 +139,16 @@ impl Renderer {
             scene_group,
             cascade_groups,
             tonemap_group,
-        } = Resources::new(device, width, height, scene, fog, sky);
+        } = Resources::new(
+            device,
+            width,
+            height,
+            scene,
+            fog,
+            sky,
+            lamp_matrices,
+            lamp_size,
+        );
         let Pipelines {
             shadow_pipeline,
             opaque_pipeline,
@@ -154,6 +180,9 @@ impl Renderer {
             ldr,
             shadow_map,
             shadow_layers,
+            lamp_map,
+            lamp_faces,
+            lamp_groups,
             opaque: Geometry::new(device, "demo opaque", &scene.opaque),
             emissive: Geometry::new(device, "demo emissive", &scene.emissive),
             glass: Geometry::new(device, "demo glass", &scene.glass),
@@ -179,6 +208,12 @@ impl Renderer {
     /// passes read it.
     pub fn shadow_map(&self) -> &wgpu::Texture {
         &self.shadow_map
+    }
+
+    /// The lamp's cube shadow map (Depth32Float, six layers +X, -X, +Y, -Y, +Z, -Z),
+    /// as the fog's local-light atlas reads it.
+    pub fn lamp_shadow_map(&self) -> &wgpu::Texture {
+        &self.lamp_map
     }
 
     /// The HDR colour target (the fog's apply target).

@@ -1,6 +1,8 @@
 //! The resources of the demo's passes: render targets (HDR colour, depth, display,
-//! the cascaded shadow map), uniform buffers, bind group layouts and bind groups.
+//! the cascaded shadow map, the lamp's cube shadow map), uniform buffers, bind group
+//! layouts and bind groups.
 
+use glam::Mat4;
 use volfog::pipeline::VolumetricFog;
 use volfog::pipeline::sky::SkyLight;
 use volfog::uniforms::{self, FogLight, ShadowCascades};
@@ -31,6 +33,9 @@ pub(super) struct Resources {
     pub ldr: wgpu::Texture,
     pub shadow_map: wgpu::Texture,
     pub shadow_layers: Vec<wgpu::TextureView>,
+    pub lamp_map: wgpu::Texture,
+    pub lamp_faces: Vec<wgpu::TextureView>,
+    pub lamp_groups: Vec<wgpu::BindGroup>,
     pub hdr_view: wgpu::TextureView,
     pub scene_buffer: wgpu::Buffer,
     pub cascades_buffer: wgpu::Buffer,
@@ -45,8 +50,10 @@ pub(super) struct Resources {
 }
 
 impl Resources {
-    /// Creates the targets, buffers and bind groups for a scene, a fog pipeline and
-    /// the sky texture.
+    /// Creates the targets, buffers and bind groups for a scene, a fog pipeline, the
+    /// sky texture and the lamp's cube faces (world -> clip of each, `lamp_size`
+    /// texels per side).
+    #[allow(clippy::too_many_arguments)]
     pub fn new(
         device: &wgpu::Device,
         width: u32,
@@ -54,6 +61,8 @@ impl Resources {
         scene: &Scene,
         fog: &VolumetricFog,
         sky: &SkyLight,
+        lamp_matrices: &[Mat4; 6],
+        lamp_size: u32,
     ) -> Self {
         let config = fog.config();
         let attachment =
@@ -111,6 +120,53 @@ impl Resources {
             dimension: Some(wgpu::TextureViewDimension::D2Array),
             aspect: wgpu::TextureAspect::DepthOnly,
             ..Default::default()
+        });
+        // The lamp's cube shadow map: six layers, faces +X, -X, +Y, -Y, +Z, -Z.
+        let lamp_map = device.create_texture(&wgpu::TextureDescriptor {
+            label: Some("demo lamp shadow map"),
+            size: wgpu::Extent3d {
+                width: lamp_size,
+                height: lamp_size,
+                depth_or_array_layers: 6,
+            },
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format: DEPTH_FORMAT,
+            usage: attachment,
+            view_formats: &[],
+        });
+        let lamp_faces = (0..6)
+            .map(|layer| {
+                lamp_map.create_view(&wgpu::TextureViewDescriptor {
+                    label: Some("demo lamp shadow face"),
+                    dimension: Some(wgpu::TextureViewDimension::D2),
+                    base_array_layer: layer,
+                    array_layer_count: Some(1),
+                    ..Default::default()
+                })
+            })
+            .collect();
+        let lamp_array = lamp_map.create_view(&wgpu::TextureViewDescriptor {
+            label: Some("demo lamp shadow array"),
+            dimension: Some(wgpu::TextureViewDimension::D2Array),
+            aspect: wgpu::TextureAspect::DepthOnly,
+            ..Default::default()
+        });
+        let lamp_face_buffers: Vec<wgpu::Buffer> = lamp_matrices
+            .iter()
+            .map(|m| {
+                device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                    label: Some("demo lamp face matrix"),
+                    contents: bytemuck::cast_slice(&m.to_cols_array()),
+                    usage: wgpu::BufferUsages::UNIFORM,
+                })
+            })
+            .collect();
+        let lamp_matrices_buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("demo lamp faces"),
+            contents: bytemuck::cast_slice(&lamp_matrices.map(|m| m.to_cols_array())),
+            usage: wgpu::BufferUsages::UNIFORM,
         });
 
         let uniform = |label: &str, size: usize| {
@@ -195,6 +251,17 @@ impl Resources {
                     ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering),
                     count: None,
                 },
+                wgpu::BindGroupLayoutEntry {
+                    binding: 7,
+                    visibility: fragment,
+                    ty: wgpu::BindingType::Texture {
+                        sample_type: wgpu::TextureSampleType::Depth,
+                        view_dimension: wgpu::TextureViewDimension::D2Array,
+                        multisampled: false,
+                    },
+                    count: None,
+                },
+                uniform_entry(8, fragment),
             ],
         });
         let scene_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
@@ -229,24 +296,37 @@ impl Resources {
                     binding: 6,
                     resource: wgpu::BindingResource::Sampler(sky.sampler()),
                 },
+                wgpu::BindGroupEntry {
+                    binding: 7,
+                    resource: wgpu::BindingResource::TextureView(&lamp_array),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 8,
+                    resource: lamp_matrices_buffer.as_entire_binding(),
+                },
             ],
         });
         let cascade_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("demo cascade"),
             entries: &[uniform_entry(0, wgpu::ShaderStages::VERTEX)],
         });
+        let matrix_group = |label: &str, b: &wgpu::Buffer| {
+            device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some(label),
+                layout: &cascade_layout,
+                entries: &[wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: b.as_entire_binding(),
+                }],
+            })
+        };
         let cascade_groups = cascade_matrices
             .iter()
-            .map(|b| {
-                device.create_bind_group(&wgpu::BindGroupDescriptor {
-                    label: Some("demo cascade"),
-                    layout: &cascade_layout,
-                    entries: &[wgpu::BindGroupEntry {
-                        binding: 0,
-                        resource: b.as_entire_binding(),
-                    }],
-                })
-            })
+            .map(|b| matrix_group("demo cascade", b))
+            .collect();
+        let lamp_groups = lamp_face_buffers
+            .iter()
+            .map(|b| matrix_group("demo lamp face", b))
             .collect();
         let hdr_view = hdr.create_view(&Default::default());
         let tonemap_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
@@ -286,6 +366,9 @@ impl Resources {
             ldr,
             shadow_map,
             shadow_layers,
+            lamp_map,
+            lamp_faces,
+            lamp_groups,
             hdr_view,
             scene_buffer,
             cascades_buffer,

@@ -1,5 +1,5 @@
 // Demo scene shading: the lit opaque pass (sun with cascaded shadow maps, point and
-// spot lights, hemisphere ambient), the sky, a semi-transparent surface fogged
+// spot lights, the lamp with its cube shadow map, hemisphere ambient), the sky, a semi-transparent surface fogged
 // through the forward snippet (volfog::apply with volfog::bindings at group 1), and
 // the pool: submerged surfaces lit through the water and seen through its fog
 // (volfog::water), and its surface.
@@ -7,7 +7,8 @@
 // Bindings (group 0): 0 Scene, 1 lights (array<FogLight>), 2 ShadowCascades,
 //                     3 shadow map (depth 2D array, one layer per cascade),
 //                     4 comparison sampler, 5 the sky texture (volfog::sky), 6 its
-//                     sampler.
+//                     sampler, 7 the lamp's cube shadow map (depth 2D array, faces
+//                     +X, -X, +Y, -Y, +Z, -Z), 8 world -> clip of its six faces.
 //           (group 1): the volfog::bindings fog group (transparent pass only).
 // Outputs: linear radiance in rgb; alpha carries the sun visibility of the opaque
 // surface (1 for the sky) for the demo's probe output; the fullscreen apply and the
@@ -50,6 +51,9 @@ struct Scene {
     pool_max: vec4<f32>,
     // The sky's atmosphere; the sky texture (binding 5) is solved for it.
     atmosphere: SkyAtmosphere,
+    // The lamp: its position and its index in the lights (shadowed by binding 7).
+    lamp_position: vec3<f32>,
+    lamp_index: u32,
 }
 
 @group(0) @binding(0) var<uniform> scene: Scene;
@@ -59,6 +63,8 @@ struct Scene {
 @group(0) @binding(4) var shadow_sampler: sampler_comparison;
 @group(0) @binding(5) var sky_texture: texture_2d_array<f32>;
 @group(0) @binding(6) var sky_texture_sampler: sampler;
+@group(0) @binding(7) var lamp_map: texture_depth_2d_array;
+@group(0) @binding(8) var<uniform> lamp_faces: array<mat4x4<f32>, 6>;
 
 const PI: f32 = 3.14159265;
 
@@ -110,12 +116,42 @@ fn sun_visibility(world: vec3<f32>, normal: vec3<f32>, view_depth: f32) -> f32 {
     return sum / 9.0;
 }
 
+// The lamp's visibility from its cube shadow map: the face along the major axis of
+// the direction from the lamp, 3x3 PCF with hardware comparison, the receiver moved
+// 1.5 texels along its normal and half a texel towards the lamp.
+fn lamp_visibility(world: vec3<f32>, normal: vec3<f32>) -> f32 {
+    let to = world - scene.lamp_position;
+    let size = f32(textureDimensions(lamp_map).x);
+    let texel = 2.0 * length(to) / size;
+    let p = world + normal * (1.5 * texel) - normalize(to) * (0.5 * texel);
+    let d = p - scene.lamp_position;
+    let a = abs(d);
+    var face = select(5u, 4u, d.z > 0.0);
+    if a.x >= a.y && a.x >= a.z {
+        face = select(1u, 0u, d.x > 0.0);
+    } else if a.y >= a.z {
+        face = select(3u, 2u, d.y > 0.0);
+    }
+    let clip = lamp_faces[face] * vec4<f32>(p, 1.0);
+    let ndc = clip.xyz / clip.w;
+    let uv = vec2<f32>(ndc.x * 0.5 + 0.5, 0.5 - ndc.y * 0.5);
+    var sum = 0.0;
+    for (var y = -1; y <= 1; y++) {
+        for (var x = -1; x <= 1; x++) {
+            let offset = vec2<f32>(f32(x), f32(y)) / size;
+            sum += textureSampleCompareLevel(lamp_map, shadow_sampler, uv + offset, face, ndc.z);
+        }
+    }
+    return sum / 9.0;
+}
+
 // Irradiance from the hemisphere ambient for a surface normal.
 fn ambient_irradiance(normal: vec3<f32>) -> vec3<f32> {
     return PI * mix(scene.ambient_ground, scene.sky_horizon, 0.5 + 0.5 * normal.y);
 }
 
-// Irradiance from the point and spot lights (same falloff as in the fog).
+// Irradiance from the point and spot lights (same falloff as in the fog), the lamp
+// shadowed by its cube shadow map.
 fn local_irradiance(world: vec3<f32>, normal: vec3<f32>) -> vec3<f32> {
     var e = vec3<f32>(0.0);
     for (var k = 0u; k < scene.light_count; k++) {
@@ -125,7 +161,11 @@ fn local_irradiance(world: vec3<f32>, normal: vec3<f32>) -> vec3<f32> {
         let l = offset / max(distance, 1e-6);
         let attenuation = light_attenuation(distance, light.range, light.radius);
         let spot = spot_factor(dot(-l, light.direction), light.cos_outer, light.cos_inner);
-        e += light.color * (attenuation * spot * max(dot(normal, l), 0.0));
+        var lit = attenuation * spot * max(dot(normal, l), 0.0);
+        if k == scene.lamp_index && lit > 0.0 {
+            lit *= lamp_visibility(world, normal);
+        }
+        e += light.color * lit;
     }
     return e;
 }

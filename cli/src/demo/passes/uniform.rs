@@ -1,5 +1,5 @@
-//! The `Scene` uniform of the demo's shaders: camera, sun, sky, shadow and water
-//! parameters of one frame.
+//! The `Scene` uniform of the demo's shaders: camera, sun, sky, shadow, water and
+//! lamp parameters of one frame.
 
 use encase::ShaderType;
 use glam::{Mat4, Vec3, Vec4};
@@ -33,6 +33,9 @@ pub struct SceneUniform {
     pub pool_max: Vec4,
     /// The sky's atmosphere (`volfog::sky`); the sky texture is solved for it.
     pub atmosphere: volfog::uniforms::SkyAtmosphere,
+    /// The lamp's position and its index in the lights (shadowed by its cube map).
+    pub lamp_position: Vec3,
+    pub lamp_index: u32,
 }
 
 impl SceneUniform {
@@ -59,6 +62,8 @@ impl SceneUniform {
             pool_min: Vec4::ZERO,
             pool_max: Vec4::ZERO,
             atmosphere: volfog::uniforms::SkyAtmosphere::default(),
+            lamp_position: Vec3::ZERO,
+            lamp_index: u32::MAX,
         }
     }
 }

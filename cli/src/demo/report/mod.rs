@@ -10,7 +10,7 @@ use glam::Vec4;
 pub use probe::{write_probe, write_underwater_probe};
 
 use super::DemoError;
-use super::passes::PASS_NAMES;
+use super::passes::{PASS_COUNT, PASS_NAMES};
 
 pub fn median(values: &mut [f64]) -> f64 {
     values.sort_by(|a, b| a.total_cmp(b));
@@ -52,7 +52,7 @@ pub fn flat(v: &[Vec4]) -> Vec<f32> {
     v.iter().flat_map(|t| t.to_array()).collect()
 }
 
-pub fn print_timings(times: &[[f64; 11]], frames: u32) {
+pub fn print_timings(times: &[[f64; PASS_COUNT]], frames: u32) {
     if times.is_empty() {
         println!("per-pass GPU times: unavailable (the adapter lacks TIMESTAMP_QUERY)");
         return;

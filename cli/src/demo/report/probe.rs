@@ -1,12 +1,12 @@
-//! The probe files (`--probe`): linear float images, the depth buffer, the ESM and
-//! the integrated volume of the last frame with `probe.json`, and the images of the
+//! The probe files (`--probe`): linear float images, the depth buffer, the ESM, the
+//! lamp's shadow atlas and the integrated volume of the last frame with `probe.json`, and the images of the
 //! camera under water with `underwater.json`.
 
 use serde_json::json;
 
 use super::{flat, median, write_error, write_f32};
 use crate::demo::DemoError;
-use crate::demo::passes::{Demo, FrameSetup, PASS_NAMES, SceneUniform};
+use crate::demo::passes::{Demo, FrameSetup, PASS_COUNT, PASS_NAMES, SceneUniform};
 use crate::demo::scene;
 
 /// The pool's water and footprint for the probe files.
@@ -18,10 +18,43 @@ fn water_json(water: &volfog::uniforms::Water) -> serde_json::Value {
     })
 }
 
+/// The lamp house, the lamp, its shadow camera and what the fog's local shadows got.
+fn lamp_json(
+    scene: &scene::Scene,
+    camera: &volfog::uniforms::LightCamera,
+    fog: &volfog::pipeline::VolumetricFog,
+) -> serde_json::Value {
+    let house = &scene.lamp;
+    let light = &scene.lights[house.light as usize];
+    let stats = fog.local_shadow_stats();
+    let local = fog.config().local_shadows;
+    json!({
+        "light": house.light,
+        "position": light.position.to_array(),
+        "color": light.color.to_array(),
+        "range": light.range,
+        "fog_intensity": light.fog_intensity,
+        "wall_min": house.wall_min.to_array(),
+        "wall_max": house.wall_max.to_array(),
+        "yard_min": house.yard_min.to_array(),
+        "yard_max": house.yard_max.to_array(),
+        "doorway_min": house.doorway_min.to_array(),
+        "doorway_max": house.doorway_max.to_array(),
+        "light_from_world": camera.light_from_world().to_cols_array().to_vec(),
+        "clip_from_view": camera.clip_from_view().to_cols_array().to_vec(),
+        "atlas_resolution": local.map_or(0, |l| l.resolution),
+        "atlas_exponent": local.map_or(0.0, |l| l.exponent),
+        "point_shadows": stats.point_shadows,
+        "spot_shadows": stats.spot_shadows,
+        "unshadowed": stats.unshadowed,
+        "atlas_layers": stats.layers,
+    })
+}
+
 pub fn write_probe(
     demo: &mut Demo<'_>,
     setup: &FrameSetup,
-    times: &[[f64; 11]],
+    times: &[[f64; PASS_COUNT]],
 ) -> Result<(), DemoError> {
     let final_hdr = demo.gpu.read_texture_rgba16f(&demo.renderer.hdr)?;
     let dry_hdr = demo.dry_surface(setup)?;
@@ -36,6 +69,7 @@ pub fn write_probe(
         scene,
         probe_textures,
         sky,
+        lamp_camera: demo_lamp_camera,
         ..
     } = demo;
     let [surface, clouded, fogged] = probe_textures.as_ref().expect("called with --probe");
@@ -75,6 +109,10 @@ pub fn write_probe(
     let mean_far_t =
         last_slice.iter().map(|t| f64::from(t.w)).sum::<f64>() / last_slice.len() as f64;
     let finite_volume = integrated.iter().all(|t| t.is_finite());
+    let atlas_raw = match fog.local_shadow_atlas() {
+        Some(t) => gpu.read_texture_raw(t, 4)?,
+        None => Vec::new(),
+    };
     let esm_raw = gpu.read_texture_raw(fog.esm_texture(), 4)?;
     let esm: &[f32] = bytemuck::cast_slice(&esm_raw);
     let (esm_min, esm_max) = esm
@@ -95,6 +133,7 @@ pub fn write_probe(
         ("depth.f32", depth),
         ("integrated.f32", flat(&integrated)),
         ("esm.f32", esm.to_vec()),
+        ("lamp_atlas.f32", bytemuck::cast_slice(&atlas_raw).to_vec()),
     ] {
         write_f32(&dir.join(name), &data)?;
     }
@@ -131,6 +170,7 @@ pub fn write_probe(
             "water": "water.f32: every surface and the sky black, before the fog: the pool's underwater in-scattering",
             "integrated": "integrated.f32: the integrated froxel volume (rgb in-scatter, a transmittance), x fastest, then y, then z",
             "esm": "esm.f32: the filtered ESM, one esm_resolution^2 layer per cascade",
+            "lamp_atlas": "lamp_atlas.f32: the local-light ESM atlas, one resolution^2 layer per cube face of the lamp (+X, -X, +Y, -Y, +Z, -Z)",
         },
         "camera": {
             "position": uniform.camera_position.to_array(),
@@ -153,6 +193,8 @@ pub fn write_probe(
             "height_falloff": medium.height_falloff,
             "base_height": medium.base_height,
             "noise_strength": medium.noise_strength,
+            "albedo": medium.albedo.to_array(),
+            "phase_g": medium.phase_g,
         },
         "fog": {
             "volume_size": fog.config().volume_size.to_array(),
@@ -175,6 +217,7 @@ pub fn write_probe(
             "count": cascades.count,
             "exponent": cascades.exponent,
         },
+        "lamp": lamp_json(scene, demo_lamp_camera, fog),
         "passes": passes,
     });
     let path = dir.join("probe.json");

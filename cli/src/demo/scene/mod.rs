@@ -1,9 +1,11 @@
 //! The demo scene: a checkered ground, a colonnade wall of pillars with an arch,
-//! a glass sphere on a plinth, a tiled pool of water sunk into the ground, a low sun,
+//! a glass sphere on a plinth, a tiled pool of water sunk into the ground, a lamp in
+//! a yard behind the colonnade that shines out through a doorway, a low sun,
 //! coloured point and spot lights, a local fog pocket, the medium and the camera paths
 //! (the main camera above the ground and one under water).
 
 mod cameras;
+mod lamp;
 mod mesh;
 
 use glam::{Mat4, Quat, Vec3};
@@ -15,6 +17,7 @@ use volfog::uniforms::{
 };
 
 pub use cameras::{FAR, FOV_Y, NEAR, camera, fit_cascades, underwater_camera};
+pub use lamp::LampYard;
 use mesh::{CHECKER, EMISSIVE, PLAIN};
 pub use mesh::{Mesh, Vertex};
 
@@ -51,7 +54,10 @@ pub struct Scene {
     /// (the R16Float texture holds them unchanged).
     pub cloud_map: Vec<f32>,
     pub sun: DirectionalLight,
+    /// The point and spot lights; `lamp.light` is the yard's shadowed lamp.
     pub lights: Vec<FogLight>,
+    /// The lamp's wall, doorway and yard.
+    pub lamp: LampYard,
     pub local_volumes: Vec<LocalVolume>,
     pub medium: FogMedium,
     pub ambient_sky: glam::Vec3,
@@ -232,9 +238,9 @@ pub fn build() -> Result<Scene, InvalidValue> {
     glass.sphere(glass_center, 1.0, Vec3::new(0.35, 0.6, 0.9), 24, 48);
 
     // Coloured lights: two lanterns on the pillars, two spots, one small red light by
-    // the sphere.
+    // the sphere; then the lamp in the yard.
     let front = row_z + 0.75;
-    let lights = vec![
+    let mut lights = vec![
         FogLight::point(
             Vec3::new(-10.8, 2.6, front - 0.25),
             Vec3::new(60.0, 26.0, 8.0),
@@ -267,6 +273,10 @@ pub fn build() -> Result<Scene, InvalidValue> {
             6.0,
         ),
     ];
+    // The lamp's walls in a darker stone: the lamp lights them from close by.
+    let lamp_stone = Vec3::new(0.34, 0.31, 0.28);
+    let lamp = lamp::build(&mut opaque, lights.len() as u32, lamp_stone);
+    lights.push(lamp::lamp());
     for light in &lights {
         light.validate()?;
     }
@@ -343,6 +353,7 @@ pub fn build() -> Result<Scene, InvalidValue> {
         cloud_map: cloud_map(CLOUD_MAP_SIZE),
         sun,
         lights,
+        lamp,
         local_volumes,
         medium,
         ambient_sky: Vec3::new(0.04, 0.06, 0.1),

@@ -26,10 +26,12 @@ fn every_pass_runs_and_reports_gpu_time() {
         names,
         [
             "shadow maps",
+            "lamp shadow map",
             "opaque + sky",
             "froxel cull",
             "esm downsample",
             "esm blur",
+            "local shadows",
             "inject",
             "temporal",
             "scan",

@@ -17,6 +17,7 @@
 mod clouds;
 mod fog;
 mod frame;
+mod lamp;
 mod sky;
 mod water;
 
@@ -24,8 +25,10 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::sync::OnceLock;
 
-use glam::{Mat4, Vec3, Vec4};
+use glam::{Mat4, UVec3, Vec3, Vec4};
 use serde_json::Value;
+use volfog::cpu::inject::froxel_world_position;
+use volfog::uniforms::{FogFrame, Froxels};
 
 const WIDTH: u32 = 192;
 const HEIGHT: u32 = 108;
@@ -122,6 +125,74 @@ fn vec3(v: &Value) -> Vec3 {
         .map(|x| num(x) as f32)
         .collect();
     Vec3::from_slice(&a)
+}
+
+/// The integrated froxel volume of the last frame (rgb in-scatter, a transmittance)
+/// with the froxels' placement, from the probe.
+struct Volume {
+    size: UVec3,
+    froxels: Froxels,
+    frame: FogFrame,
+    texels: Vec<Vec4>,
+}
+
+impl Volume {
+    fn read(run: &Run) -> Self {
+        let p = &run.probe;
+        let fog = &p["fog"];
+        let size = UVec3::from_slice(
+            &fog["volume_size"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .map(|x| x.as_u64().unwrap() as u32)
+                .collect::<Vec<_>>(),
+        );
+        let froxels = Froxels::new(
+            mat(&p["camera"]["clip_from_view"]),
+            size,
+            num(&fog["near"]) as f32,
+            num(&fog["far"]) as f32,
+            num(&fog["slice_curve"]) as f32,
+        )
+        .expect("valid froxels");
+        let frame = FogFrame {
+            world_from_view: mat(&p["camera"]["view_from_world"]).inverse(),
+            camera_position: vec3(&p["camera"]["position"]),
+            ..FogFrame::default()
+        };
+        let texels: Vec<Vec4> = read_f32(run, "integrated.f32")
+            .chunks_exact(4)
+            .map(Vec4::from_slice)
+            .collect();
+        assert_eq!(texels.len() as u32, size.x * size.y * size.z);
+        Self {
+            size,
+            froxels,
+            frame,
+            texels,
+        }
+    }
+
+    fn at(&self, x: u32, y: u32, z: u32) -> Vec4 {
+        let s = self.size;
+        self.texels[((z * s.y + y) * s.x + x) as usize]
+    }
+
+    /// World position and view depth (m) of a froxel's centre.
+    fn world(&self, x: u32, y: u32, z: u32) -> (Vec3, f32) {
+        froxel_world_position(&self.froxels, &self.frame, UVec3::new(x, y, z), false)
+    }
+
+    /// The radiance froxel (x, y, z) scatters towards the eye, J = dL / (-dT) between
+    /// slices z - 1 and z (the source function sigma_s L_in / sigma_t, independent of
+    /// the density), where the slice has enough extinction to tell (culled froxels,
+    /// behind the scene's surfaces, have none).
+    fn scattered(&self, x: u32, y: u32, z: u32) -> Option<f32> {
+        let (front, back) = (self.at(x, y, z - 1), self.at(x, y, z));
+        let d_t = front.w - back.w;
+        (d_t > 2e-3 * front.w).then(|| sum3(back - front) / d_t)
+    }
 }
 
 /// World direction of each pixel (from the camera through the pixel's centre).
