@@ -58,8 +58,9 @@
 //   VOLFOG_INJECT_LOCAL_SHADOWS     point and spot lights with a projection
 //                                   (FogLight.projection) pass their shadow in the
 //                                   atlas and, for spot lights, their cookie
-//                                   (volfog::local_shadow); lights without one and
-//                                   blocks no such light touches cost as before
+//                                   (volfog::local_shadow); such lights are gathered
+//                                   apart, so lights without one and blocks no such
+//                                   light touches cost as before
 
 #import volfog::types::{Froxels, FogFrame, FogMedium, FogLighting, ShadowCascades, FogLight, LocalVolume}
 #import volfog::froxel::{froxel_view_position, froxel_injected, froxel_block_unpack, FROXEL_BLOCK_X, FROXEL_BLOCK_Y, FROXEL_BLOCK_Z}
@@ -125,6 +126,12 @@ const HALF_MAX: f32 = 65504.0;
 
 var<workgroup> tile_lights: array<u32, 64>;
 var<workgroup> tile_count: atomic<u32>;
+#ifdef VOLFOG_INJECT_LOCAL_SHADOWS
+// The gathered lights with a projection, apart from the others: a block none of them
+// touches runs the plain light loop only.
+var<workgroup> tile_shadowed: array<u32, 64>;
+var<workgroup> tile_shadowed_count: atomic<u32>;
+#endif
 var<workgroup> tile_volumes: array<u32, 64>;
 var<workgroup> tile_volume_count: atomic<u32>;
 var<workgroup> tile_sphere: vec4<f32>;
@@ -206,17 +213,18 @@ fn froxel_scattering(id: vec3<u32>, tile_light_count: u32, tile_volume_count: u3
 #endif
     light += ambient_inscatter(fog_lighting.ambient_r, fog_lighting.ambient_g, fog_lighting.ambient_b, view_dir, fog_medium.phase_g);
     for (var i = 0u; i < tile_light_count; i++) {
-        let local_light = lights[tile_lights[i]];
-        var inscatter = fog_light_inscatter(local_light, world, view_dir, fog_medium.phase_g);
-#ifdef VOLFOG_INJECT_LOCAL_SHADOWS
-        if local_light.projection < arrayLength(&light_projections) {
-            let p = light_projections[local_light.projection];
-            inscatter *= local_shadow_visibility(local_shadow_atlas, p, world)
-                * light_cookie(cookies, cookie_sampler, p, world);
-        }
-#endif
-        light += inscatter;
+        light += fog_light_inscatter(lights[tile_lights[i]], world, view_dir, fog_medium.phase_g);
     }
+#ifdef VOLFOG_INJECT_LOCAL_SHADOWS
+    let shadowed_count = min(atomicLoad(&tile_shadowed_count), TILE_LIGHTS);
+    for (var i = 0u; i < shadowed_count; i++) {
+        let local_light = lights[tile_shadowed[i]];
+        let p = light_projections[local_light.projection];
+        light += fog_light_inscatter(local_light, world, view_dir, fog_medium.phase_g)
+            * (local_shadow_visibility(local_shadow_atlas, p, world)
+                * light_cookie(cookies, cookie_sampler, p, world));
+    }
+#endif
 
     // Clamped to the largest finite rgba16float value so no texel becomes Inf.
     let sigma_s = fog_medium.albedo * sigma_t;
@@ -260,12 +268,24 @@ fn inject(
         tile_sphere = vec4<f32>(center, radius);
         atomicStore(&tile_count, 0u);
         atomicStore(&tile_volume_count, 0u);
+#ifdef VOLFOG_INJECT_LOCAL_SHADOWS
+        atomicStore(&tile_shadowed_count, 0u);
+#endif
     }
     workgroupBarrier();
     let sphere = tile_sphere;
     let light_count = min(fog_lighting.light_count, arrayLength(&lights));
     for (var i = local_index; i < light_count; i += 4u * 4u * WORKGROUP_Z) {
         if light_touches_sphere(lights[i], sphere.xyz, sphere.w) {
+#ifdef VOLFOG_INJECT_LOCAL_SHADOWS
+            if lights[i].projection < arrayLength(&light_projections) {
+                let slot = atomicAdd(&tile_shadowed_count, 1u);
+                if slot < TILE_LIGHTS {
+                    tile_shadowed[slot] = i;
+                }
+                continue;
+            }
+#endif
             let slot = atomicAdd(&tile_count, 1u);
             if slot < TILE_LIGHTS {
                 tile_lights[slot] = i;
