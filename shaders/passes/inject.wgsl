@@ -59,8 +59,11 @@
 //                                   (FogLight.projection) pass their shadow in the
 //                                   atlas and, for spot lights, their cookie
 //                                   (volfog::local_shadow); such lights are gathered
-//                                   apart, so lights without one and blocks no such
-//                                   light touches cost as before
+//                                   apart and looked up only where they shine, so a
+//                                   block no such light touches runs the plain light
+//                                   loop alone (frames without any are best run with
+//                                   the variant without this define, as VolumetricFog
+//                                   does)
 
 #import volfog::types::{Froxels, FogFrame, FogMedium, FogLighting, ShadowCascades, FogLight, LocalVolume}
 #import volfog::froxel::{froxel_view_position, froxel_injected, froxel_block_unpack, FROXEL_BLOCK_X, FROXEL_BLOCK_Y, FROXEL_BLOCK_Z}
@@ -219,10 +222,13 @@ fn froxel_scattering(id: vec3<u32>, tile_light_count: u32, tile_volume_count: u3
     let shadowed_count = min(atomicLoad(&tile_shadowed_count), TILE_LIGHTS);
     for (var i = 0u; i < shadowed_count; i++) {
         let local_light = lights[tile_shadowed[i]];
-        let p = light_projections[local_light.projection];
-        light += fog_light_inscatter(local_light, world, view_dir, fog_medium.phase_g)
-            * (local_shadow_visibility(local_shadow_atlas, p, world)
+        let inscatter = fog_light_inscatter(local_light, world, view_dir, fog_medium.phase_g);
+        // Outside the light's range or cone its shadow is not looked up.
+        if max(inscatter.r, max(inscatter.g, inscatter.b)) > 0.0 {
+            let p = light_projections[local_light.projection];
+            light += inscatter * (local_shadow_visibility(local_shadow_atlas, p, world)
                 * light_cookie(cookies, cookie_sampler, p, world));
+        }
     }
 #endif
 

@@ -161,8 +161,14 @@ impl VolumetricFog {
                 }
             }
             FogPass::Inject => {
-                self.inject
-                    .encode(&mut compute, &self.inject_groups[parity], size, indirect)
+                // The local-shadow variant only for frames whose lights project
+                // something: the others cost what they cost without the feature.
+                let projects = self.local_shadows.as_ref().is_some_and(|l| l.projects());
+                let (pass, groups) = match &self.inject_shadowed {
+                    Some((pass, groups)) if projects => (pass, groups),
+                    _ => (&self.inject, &self.inject_groups),
+                };
+                pass.encode(&mut compute, &groups[parity], size, indirect)
             }
             FogPass::Temporal => {
                 let t = self.temporal.as_ref().expect("checked above");

@@ -4,7 +4,7 @@
 use super::buffers::Buffers;
 use super::local_shadows::LocalShadows;
 use super::textures::{CloudShadow, Culling, Density, Noise, Temporal};
-use super::{VolumetricFog, array_view, view};
+use super::{FogError, VolumetricFog, array_view, view};
 use crate::pipeline::esm::EsmPasses;
 use crate::pipeline::inject::{InjectPass, InjectResources};
 use crate::pipeline::scan::ScanPass;
@@ -17,22 +17,41 @@ impl VolumetricFog {
                 .as_ref()
                 .map(|c| (&c.views[p], &c.blocks.blocks))
         };
-        self.inject_groups = [0, 1].map(|p| {
-            inject_bind_group(
-                device,
-                &self.inject,
-                &self.buffers,
-                &array_view(&self.esm_texture),
-                &view(&self.scattering),
-                InjectTextures {
-                    density: self.density.as_ref(),
-                    culling: live(p),
-                    noise: self.noise.as_ref(),
-                    clouds: self.clouds.as_ref(),
-                    local_shadows: self.local_shadows.as_ref(),
-                },
-            )
-        });
+        let groups = |inject: &InjectPass| {
+            [0, 1].map(|p| {
+                inject_bind_group(
+                    device,
+                    inject,
+                    &self.buffers,
+                    &array_view(&self.esm_texture),
+                    &view(&self.scattering),
+                    InjectTextures {
+                        density: self.density.as_ref(),
+                        culling: live(p),
+                        noise: self.noise.as_ref(),
+                        clouds: self.clouds.as_ref(),
+                        local_shadows: self.local_shadows.as_ref(),
+                    },
+                )
+            })
+        };
+        self.inject_groups = groups(&self.inject);
+        if let Some((pass, _)) = &self.inject_shadowed {
+            let shadowed = groups(pass);
+            self.inject_shadowed.as_mut().expect("checked above").1 = shadowed;
+        }
+    }
+
+    /// Compiles the local-shadow variant of inject (once) and rebuilds the inject
+    /// groups: called when shadow maps or cookies are set.
+    pub(super) fn enable_shadowed_inject(&mut self, device: &wgpu::Device) -> Result<(), FogError> {
+        if self.inject_shadowed.is_none() {
+            let pass = InjectPass::new(device, self.config.inject_options())?;
+            let placeholder = self.inject_groups.clone();
+            self.inject_shadowed = Some((pass, placeholder));
+        }
+        self.rebuild_inject_groups(device);
+        Ok(())
     }
 }
 

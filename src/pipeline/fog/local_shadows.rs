@@ -119,6 +119,8 @@ pub(super) struct LocalShadows {
     projections: wgpu::Buffer,
     groups: Option<AtlasGroups>,
     stats: LocalShadowStats,
+    /// Whether a light of the prepared frame has a shadow or a cookie.
+    projects: bool,
 }
 
 /// The bind groups that fill the atlas.
@@ -181,6 +183,7 @@ impl LocalShadows {
             projections: storage_buffer(device, "volfog light projections", projections.len()),
             groups: None,
             stats: LocalShadowStats::default(),
+            projects: false,
         }))
     }
 
@@ -433,6 +436,10 @@ impl LocalShadows {
             queue.write_buffer(&self.sources, 0, &bytes);
         }
         self.stats = plan.stats;
+        self.projects = plan
+            .projections
+            .iter()
+            .any(|p| p.layer != LOCAL_SHADOW_NONE || p.cookie != LOCAL_SHADOW_NONE);
     }
 
     /// Records the downsample and blur of this frame's atlas layers.
@@ -448,6 +455,12 @@ impl LocalShadows {
         for (axis, group) in groups.blur.iter().enumerate() {
             esm.encode_blur(compute, group, axis as u32, size, layers);
         }
+    }
+
+    /// Whether a light of this frame has a shadow in the atlas or a cookie (the frame
+    /// then runs inject with local shadows).
+    pub(super) fn projects(&self) -> bool {
+        self.projects
     }
 
     /// Whether this frame fills atlas layers.
@@ -503,8 +516,7 @@ impl VolumetricFog {
         local.check_maps("the spot shadow maps", texture, false)?;
         local.spot_maps = Some(texture.clone());
         local.rebuild(device, &self.esm);
-        self.rebuild_inject_groups(device);
-        Ok(())
+        self.enable_shadowed_inject(device)
     }
 
     /// Uses the point lights' cube shadow maps: a 2D depth array of six layers per
@@ -520,8 +532,7 @@ impl VolumetricFog {
         local.check_maps("the point shadow maps", texture, true)?;
         local.point_maps = Some(texture.clone());
         local.rebuild(device, &self.esm);
-        self.rebuild_inject_groups(device);
-        Ok(())
+        self.enable_shadowed_inject(device)
     }
 
     /// Uses a 2D array of cookies (a filterable float format, e.g. Rgba8Unorm, with
@@ -536,8 +547,7 @@ impl VolumetricFog {
         let local = self.local_shadows.as_mut().ok_or_else(local_shadows_off)?;
         check_filterable(texture, device, "the cookies", wgpu::TextureDimension::D2)?;
         local.cookies = Some(texture.clone());
-        self.rebuild_inject_groups(device);
-        Ok(())
+        self.enable_shadowed_inject(device)
     }
 
     /// What the prepared frame's [`ShadowedLight`]s got: the shadowed lights of each

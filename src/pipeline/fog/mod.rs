@@ -63,7 +63,7 @@ pub use timings::{FogPass, PassTimings};
 use super::apply::{FogResources, fog_bind_group, fog_layout_entries, fog_sampler};
 use super::cull::{FroxelCullPass, LiveBlocks, live_slices_texture};
 use super::esm::EsmPasses;
-use super::inject::InjectPass;
+use super::inject::{InjectOptions, InjectPass};
 use super::noise::{NoiseBake, noise_sampler};
 use super::scan::ScanPass;
 use super::temporal::TemporalPass;
@@ -85,7 +85,11 @@ use textures::{
 pub struct VolumetricFog {
     config: FogConfig,
     esm: EsmPasses,
+    /// Inject without local shadows: every frame whose lights project nothing.
     inject: InjectPass,
+    /// Inject with local shadows and its bind groups, compiled once the first shadow
+    /// maps or cookies are set: frames with a shadowed or cookied light.
+    inject_shadowed: Option<(InjectPass, [wgpu::BindGroup; 2])>,
     scan: ScanPass,
     buffers: Buffers,
     /// Inject output; with temporal reprojection also the scan output (the integrated
@@ -136,7 +140,13 @@ impl VolumetricFog {
         check_device(device, config)?;
         let size = config.volume_size;
         let esm = EsmPasses::new(device, &config.esm_options())?;
-        let inject = InjectPass::new(device, config.inject_options())?;
+        let inject = InjectPass::new(
+            device,
+            InjectOptions {
+                local_shadows: false,
+                ..config.inject_options()
+            },
+        )?;
         let scan = ScanPass::new(device, config.scan_step, config.depth_cull)?;
         let buffers = Buffers::new(device, config);
         let culling = if config.depth_cull {
@@ -282,6 +292,7 @@ impl VolumetricFog {
             config: config.clone(),
             esm,
             inject,
+            inject_shadowed: None,
             scan,
             buffers,
             scattering,
