@@ -93,7 +93,14 @@ pub fn local_shadow_check(gpu: &Gpu) -> Result<LocalShadowCheck, GpuError> {
     let projection =
         LightProjection::new(&light, &camera, 0, u32::MAX, exponent, 0.0).map_err(failed)?;
     let (mut behind, mut in_front) = (0.0f32, 1.0f32);
-    for axis in [Vec3::X, Vec3::NEG_X, Vec3::Y, Vec3::NEG_Y, Vec3::Z, Vec3::NEG_Z] {
+    for axis in [
+        Vec3::X,
+        Vec3::NEG_X,
+        Vec3::Y,
+        Vec3::NEG_Y,
+        Vec3::Z,
+        Vec3::NEG_Z,
+    ] {
         let side = Vec3::new(0.3, -0.2, 0.25) - axis * axis.dot(Vec3::new(0.3, -0.2, 0.25));
         let at = |d: f32| local_shadow_visibility(&atlas, &projection, axis * d + side, false);
         behind = behind.max(at(half + 3.0 * range / exponent));
