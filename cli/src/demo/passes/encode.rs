@@ -1,6 +1,6 @@
 //! Recording the demo's passes: every shadow cascade, the lamp's six cube faces, the
-//! lit opaque pass and sky,
-//! the semi-transparent pass fogged by the forward snippet, the tonemap.
+//! lit opaque pass and sky, the semi-transparent pass fogged by the forward snippet,
+//! the tonemap.
 
 use volfog::pipeline::VolumetricFog;
 
@@ -9,36 +9,41 @@ use super::Renderer;
 impl Renderer {
     /// Renders every cascade layer of the shadow map (opaque geometry only).
     pub fn encode_shadows(&self, encoder: &mut wgpu::CommandEncoder) {
-        let last = self.shadow_layers.len() - 1;
-        for (i, view) in self.shadow_layers.iter().enumerate() {
-            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-                label: Some("demo shadow map"),
-                color_attachments: &[],
-                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                    view,
-                    depth_ops: Some(wgpu::Operations {
-                        load: wgpu::LoadOp::Clear(1.0),
-                        store: wgpu::StoreOp::Store,
-                    }),
-                    stencil_ops: None,
-                }),
-                timestamp_writes: self.render_timestamps(0, i == 0, i == last),
-                occlusion_query_set: None,
-                multiview_mask: None,
-            });
-            pass.set_pipeline(&self.shadow_pipeline);
-            pass.set_bind_group(0, &self.cascade_groups[i], &[]);
-            self.opaque.draw(&mut pass);
-        }
+        self.encode_depth_views(
+            encoder,
+            "demo shadow map",
+            0,
+            &self.shadow_layers,
+            &self.cascade_groups,
+        );
     }
 
     /// Renders the six faces of the lamp's cube shadow map (opaque geometry only; the
     /// faces are mirrored views, and the shadow pipeline does not cull).
     pub fn encode_lamp_shadow(&self, encoder: &mut wgpu::CommandEncoder) {
-        let last = self.lamp_faces.len() - 1;
-        for (face, view) in self.lamp_faces.iter().enumerate() {
+        self.encode_depth_views(
+            encoder,
+            "demo lamp shadow map",
+            1,
+            &self.lamp_faces,
+            &self.lamp_groups,
+        );
+    }
+
+    /// Renders the opaque geometry's depth into each view with the shadow pipeline and
+    /// the view's camera group, timed as one span of timestamp pair `pair`.
+    fn encode_depth_views(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        label: &str,
+        pair: u32,
+        views: &[wgpu::TextureView],
+        groups: &[wgpu::BindGroup],
+    ) {
+        let last = views.len() - 1;
+        for (i, (view, group)) in views.iter().zip(groups).enumerate() {
             let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-                label: Some("demo lamp shadow map"),
+                label: Some(label),
                 color_attachments: &[],
                 depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
                     view,
@@ -48,12 +53,12 @@ impl Renderer {
                     }),
                     stencil_ops: None,
                 }),
-                timestamp_writes: self.render_timestamps(1, face == 0, face == last),
+                timestamp_writes: self.render_timestamps(pair, i == 0, i == last),
                 occlusion_query_set: None,
                 multiview_mask: None,
             });
             pass.set_pipeline(&self.shadow_pipeline);
-            pass.set_bind_group(0, &self.lamp_groups[face], &[]);
+            pass.set_bind_group(0, group, &[]);
             self.opaque.draw(&mut pass);
         }
     }
