@@ -90,69 +90,16 @@ impl Resources {
             wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
         );
         let shadow_size = config.esm_resolution * 4;
-        let shadow_map = device.create_texture(&wgpu::TextureDescriptor {
-            label: Some("demo shadow map"),
-            size: wgpu::Extent3d {
-                width: shadow_size,
-                height: shadow_size,
-                depth_or_array_layers: config.cascades,
-            },
-            mip_level_count: 1,
-            sample_count: 1,
-            dimension: wgpu::TextureDimension::D2,
-            format: DEPTH_FORMAT,
-            usage: attachment,
-            view_formats: &[],
-        });
-        let shadow_layers = (0..config.cascades)
-            .map(|layer| {
-                shadow_map.create_view(&wgpu::TextureViewDescriptor {
-                    label: Some("demo shadow layer"),
-                    dimension: Some(wgpu::TextureViewDimension::D2),
-                    base_array_layer: layer,
-                    array_layer_count: Some(1),
-                    ..Default::default()
-                })
-            })
-            .collect();
-        let shadow_array = shadow_map.create_view(&wgpu::TextureViewDescriptor {
-            label: Some("demo shadow array"),
-            dimension: Some(wgpu::TextureViewDimension::D2Array),
-            aspect: wgpu::TextureAspect::DepthOnly,
-            ..Default::default()
-        });
+        let (shadow_map, shadow_layers, shadow_array) = layered_depth(
+            device,
+            "demo shadow map",
+            shadow_size,
+            config.cascades,
+            attachment,
+        );
         // The lamp's cube shadow map: six layers, faces +X, -X, +Y, -Y, +Z, -Z.
-        let lamp_map = device.create_texture(&wgpu::TextureDescriptor {
-            label: Some("demo lamp shadow map"),
-            size: wgpu::Extent3d {
-                width: lamp_size,
-                height: lamp_size,
-                depth_or_array_layers: 6,
-            },
-            mip_level_count: 1,
-            sample_count: 1,
-            dimension: wgpu::TextureDimension::D2,
-            format: DEPTH_FORMAT,
-            usage: attachment,
-            view_formats: &[],
-        });
-        let lamp_faces = (0..6)
-            .map(|layer| {
-                lamp_map.create_view(&wgpu::TextureViewDescriptor {
-                    label: Some("demo lamp shadow face"),
-                    dimension: Some(wgpu::TextureViewDimension::D2),
-                    base_array_layer: layer,
-                    array_layer_count: Some(1),
-                    ..Default::default()
-                })
-            })
-            .collect();
-        let lamp_array = lamp_map.create_view(&wgpu::TextureViewDescriptor {
-            label: Some("demo lamp shadow array"),
-            dimension: Some(wgpu::TextureViewDimension::D2Array),
-            aspect: wgpu::TextureAspect::DepthOnly,
-            ..Default::default()
-        });
+        let (lamp_map, lamp_faces, lamp_array) =
+            layered_depth(device, "demo lamp shadow map", lamp_size, 6, attachment);
         let lamp_face_buffers: Vec<wgpu::Buffer> = lamp_matrices
             .iter()
             .map(|m| {
@@ -382,4 +329,47 @@ impl Resources {
             tonemap_group,
         }
     }
+}
+
+/// A depth texture of `layers` square layers: the texture, a view per layer to render
+/// into, and the depth aspect of all layers as a 2D array to sample.
+fn layered_depth(
+    device: &wgpu::Device,
+    label: &str,
+    size: u32,
+    layers: u32,
+    usage: wgpu::TextureUsages,
+) -> (wgpu::Texture, Vec<wgpu::TextureView>, wgpu::TextureView) {
+    let texture = device.create_texture(&wgpu::TextureDescriptor {
+        label: Some(label),
+        size: wgpu::Extent3d {
+            width: size,
+            height: size,
+            depth_or_array_layers: layers,
+        },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format: DEPTH_FORMAT,
+        usage,
+        view_formats: &[],
+    });
+    let per_layer = (0..layers)
+        .map(|layer| {
+            texture.create_view(&wgpu::TextureViewDescriptor {
+                label: Some(label),
+                dimension: Some(wgpu::TextureViewDimension::D2),
+                base_array_layer: layer,
+                array_layer_count: Some(1),
+                ..Default::default()
+            })
+        })
+        .collect();
+    let array = texture.create_view(&wgpu::TextureViewDescriptor {
+        label: Some(label),
+        dimension: Some(wgpu::TextureViewDimension::D2Array),
+        aspect: wgpu::TextureAspect::DepthOnly,
+        ..Default::default()
+    });
+    (texture, per_layer, array)
 }
