@@ -190,6 +190,9 @@ pub const FOG_DENSITY_LIMIT: f32 = 1e3;
 pub const FOG_FALLOFF_LIMIT: f32 = 1e3;
 /// Largest |coordinate| of the analytic fogs (m; WGSL `FOG_POSITION_LIMIT`).
 pub const FOG_POSITION_LIMIT: f32 = 1e9;
+/// The top height (m) of a medium or height fog that has no top: the analytic fogs
+/// clamp heights to [`FOG_POSITION_LIMIT`], so nothing lies above it.
+pub const NO_TOP: f32 = FOG_POSITION_LIMIT;
 /// Extinction of the analytic fogs.
 pub const FOG_DENSITY: Range<f32> = Range::new(0.0, FOG_DENSITY_LIMIT, "1/m");
 /// Falloff of the analytic fogs.

@@ -38,6 +38,10 @@
 // the block's bounding sphere are gathered in workgroup memory (at most 64 lights; when
 // more than 64 local volumes touch a block, every volume is evaluated), so distant ones
 // cost nothing.
+// Under FogLighting.transmittance the light of the sun and of every point and spot
+// light is attenuated by the medium's height profile on its way to the froxel
+// (volfog::density::medium_light_transmittance, medium_segment_transmittance); the
+// ambient light is not.
 // A froxel without extinction gets no lighting (its in-scattering is 0 whatever the light);
 // the emission of the medium and of the local volumes is added to rgb, so the scan
 // integrates it with the in-scattering.
@@ -72,7 +76,7 @@
 #else
 #import volfog::noise::noise_animated
 #endif
-#import volfog::density::{medium_shape, local_volume_sample, local_volume_touches_sphere}
+#import volfog::density::{medium_shape, medium_light_transmittance, medium_segment_transmittance, local_volume_sample, local_volume_touches_sphere}
 #import volfog::esm::{esm_cascade, esm_shadow_cascade}
 #ifdef VOLFOG_INJECT_CLOUD_SHADOW
 #import volfog::types::CloudLayer
@@ -209,6 +213,12 @@ fn froxel_scattering(id: vec3<u32>, tile_light_count: u32, tile_volume_count: u3
 #ifdef VOLFOG_INJECT_CLOUD_SHADOW
     shadow *= cloud_shadow(cloud_shadow_map, cloud_shadow_sampler, cloud_shadow_layer, world);
 #endif
+    // The light's way through the medium (FogLighting.transmittance): the height
+    // profile between the froxel and the sun, up to the medium's top.
+    let through = fog_lighting.transmittance != 0u;
+    if through {
+        shadow *= medium_light_transmittance(fog_medium, world, fog_lighting.sun.direction);
+    }
 #ifdef VOLFOG_INJECT_TWO_COLOR_PHASE
     var light = sun_inscatter_two_color(fog_lighting.sun, shadow, view_dir);
 #else
@@ -216,15 +226,23 @@ fn froxel_scattering(id: vec3<u32>, tile_light_count: u32, tile_volume_count: u3
 #endif
     light += ambient_inscatter(fog_lighting.ambient_r, fog_lighting.ambient_g, fog_lighting.ambient_b, view_dir, fog_medium.phase_g);
     for (var i = 0u; i < tile_light_count; i++) {
-        light += fog_light_inscatter(lights[tile_lights[i]], world, view_dir, fog_medium.phase_g);
+        let local_light = lights[tile_lights[i]];
+        var inscatter = fog_light_inscatter(local_light, world, view_dir, fog_medium.phase_g);
+        if through {
+            inscatter *= medium_segment_transmittance(fog_medium, world, local_light.position);
+        }
+        light += inscatter;
     }
 #ifdef VOLFOG_INJECT_LOCAL_SHADOWS
     let shadowed_count = min(atomicLoad(&tile_shadowed_count), TILE_LIGHTS);
     for (var i = 0u; i < shadowed_count; i++) {
         let local_light = lights[tile_shadowed[i]];
-        let inscatter = fog_light_inscatter(local_light, world, view_dir, fog_medium.phase_g);
+        var inscatter = fog_light_inscatter(local_light, world, view_dir, fog_medium.phase_g);
         // Outside the light's range or cone its shadow is not looked up.
         if max(inscatter.r, max(inscatter.g, inscatter.b)) > 0.0 {
+            if through {
+                inscatter *= medium_segment_transmittance(fog_medium, world, local_light.position);
+            }
             let p = light_projections[local_light.projection];
             light += inscatter * (local_shadow_visibility(local_shadow_atlas, p, world)
                 * light_cookie(cookies, cookie_sampler, p, world));

@@ -11,6 +11,7 @@
 #define_import_path volfog::density
 
 #import volfog::types::{FogMedium, LocalVolume}
+#import volfog::height_fog::{height_fog_light_optical_depth, height_fog_optical_depth_below}
 
 // Exponents are clamped to this magnitude so the density stays finite in f32.
 const DENSITY_MAX_EXPONENT: f32 = 80.0;
@@ -82,12 +83,13 @@ fn local_volume_touches_sphere(volume: LocalVolume, center: vec3<f32>, radius: f
 }
 
 // Shape of the global medium at a world position, the factor its density and its
-// emission are scaled by: the height profile exp(-c (h - h0)) times the noise
+// emission are scaled by: the height profile exp(-c (h - h0)) (0 above the medium's
+// top_height) times the noise
 // modulation max(1 + strength * noise, 0) (noise in [-1, 1]) times a density-texture
 // factor (1 without a texture).
 fn medium_shape(medium: FogMedium, world: vec3<f32>, noise: f32, texture_factor: f32) -> f32 {
     let h = dot(world, medium.up);
-    let profile = height_density(h, 1.0, medium.height_falloff, medium.base_height);
+    let profile = select(height_density(h, 1.0, medium.height_falloff, medium.base_height), 0.0, h > medium.top_height);
     let modulation = max(1.0 + medium.noise_strength * noise, 0.0);
     return profile * modulation * max(texture_factor, 0.0);
 }
@@ -97,4 +99,21 @@ fn medium_shape(medium: FogMedium, world: vec3<f32>, noise: f32, texture_factor:
 // by the caller and the sum clamped with max(0, .).
 fn medium_extinction(medium: FogMedium, world: vec3<f32>, noise: f32, texture_factor: f32) -> f32 {
     return medium.density * medium_shape(medium, world, noise, texture_factor);
+}
+
+// Transmittance in (0, 1] of the medium's height profile (density, height falloff,
+// base height, top; no noise, density texture or local volume) from a world position
+// towards a light infinitely far along the unit direction towards (the sun): its light
+// enters the medium at the top (volfog::height_fog::height_fog_light_optical_depth).
+fn medium_light_transmittance(medium: FogMedium, world: vec3<f32>, towards: vec3<f32>) -> f32 {
+    return exp(-height_fog_light_optical_depth(medium.density, medium.height_falloff,
+        medium.base_height, medium.up, medium.top_height, world, towards));
+}
+
+// Transmittance in (0, 1] of the medium's height profile along the segment from a
+// world position to a light's position (m): the closed form of the view-ray fog
+// (volfog::height_fog::height_fog_optical_depth_below).
+fn medium_segment_transmittance(medium: FogMedium, world: vec3<f32>, light: vec3<f32>) -> f32 {
+    return exp(-height_fog_optical_depth_below(medium.density, medium.height_falloff,
+        medium.base_height, medium.up, medium.top_height, world, light - world));
 }

@@ -85,6 +85,77 @@ fn height_fog_optical_depth(b: f32, c: f32, h0: f32, up: vec3<f32>, origin: vec3
     return peak * (length(d) * exp_segment_average(abs(x)));
 }
 
+// The part of the segment from origin to origin + segment (m) below the height top
+// (m along the unit axis up), as fractions vec2(t0, t1) of the segment; t1 <= t0 when
+// none of it is below (the medium is empty above its top).
+fn height_fog_below_top(up: vec3<f32>, top: f32, origin: vec3<f32>, segment: vec3<f32>) -> vec2<f32> {
+    let h = dot(origin, up);
+    let dh = dot(segment, up);
+    if dh == 0.0 {
+        return select(vec2<f32>(0.0), vec2<f32>(0.0, 1.0), h <= top);
+    }
+    let t = clamp((top - h) / dh, 0.0, 1.0);
+    return select(vec2<f32>(t, 1.0), vec2<f32>(0.0, t), dh > 0.0);
+}
+
+// height_fog_optical_depth of the segment's part below top (m along up): the optical
+// depth of a profile whose medium ends at its top.
+fn height_fog_optical_depth_below(b: f32, c: f32, h0: f32, up: vec3<f32>, top: f32, origin: vec3<f32>, segment: vec3<f32>) -> f32 {
+    let part = height_fog_below_top(up, top, origin, segment);
+    if part.y <= part.x {
+        return 0.0;
+    }
+    return height_fog_optical_depth(b, c, h0, up, origin + segment * part.x, segment * (part.y - part.x));
+}
+
+// Optical depth from origin (m) towards a light infinitely far along the unit
+// direction towards (the sun) through the profile below top (m along up): the path
+// leaves the medium at its top after (top - h) / dot(towards, up) metres, which for
+// c > 0 and top far above is Wenzel's integral towards infinity,
+// b exp(-c (h - h0)) / (c dot(towards, up)). A light at or below the horizon
+// (dot(towards, up) <= 0) is followed for FOG_POSITION_LIMIT metres, so its optical
+// depth grows without bound as it sinks: the transmittance falls smoothly to 0 with no
+// division by zero. 0 at and above the top.
+fn height_fog_light_optical_depth(b: f32, c: f32, h0: f32, up: vec3<f32>, top: f32, origin: vec3<f32>, towards: vec3<f32>) -> f32 {
+    let h = dot(origin, up);
+    if h >= top {
+        return 0.0;
+    }
+    let mu = dot(towards, up);
+    let reach = select(FOG_POSITION_LIMIT, min((top - h) / max(mu, 1e-30), FOG_POSITION_LIMIT), mu > 0.0);
+    return height_fog_optical_depth(b, c, h0, up, origin, towards * reach);
+}
+
+// Light scattered along a segment from a light infinitely far along the unit direction
+// towards, per unit of the light's radiance times phase (albedo 1):
+//   I = integral over the segment of sigma(t) exp(-tau_view(t)) exp(-tau_light(t)) dt,
+// with tau_view the optical depth from the segment's start and tau_light that of
+// height_fog_light_optical_depth, for the profile below top. With no sun
+// transmittance I would be 1 - T. Closed form: along the segment both depths change
+// with sigma alone, d(tau_view + tau_light)/dt = sigma (1 - v / mu) with v and mu the
+// up components of the unit segment direction and of towards, so with
+// F = tau_view + tau_light and r = 1 - v / mu,
+//   I = exp(-min(F(start), F(end))) tau E(|r| tau),   tau = tau_view(end),
+// E the mean of volfog::height_fog::exp_segment_average: exact for any slope, and
+// finite where r -> 0 (the segment climbs as steeply as the light) or r -> -inf (a
+// low light). 0 for a light at or below the horizon.
+fn height_fog_lit_integral(b: f32, c: f32, h0: f32, up: vec3<f32>, top: f32, origin: vec3<f32>, segment: vec3<f32>, towards: vec3<f32>) -> f32 {
+    let mu = dot(towards, up);
+    let part = height_fog_below_top(up, top, origin, segment);
+    if mu <= 0.0 || part.y <= part.x {
+        return 0.0;
+    }
+    // Above the top there is no medium: the part below starts with tau_view = 0.
+    let o = origin + segment * part.x;
+    let d = segment * (part.y - part.x);
+    let tau = height_fog_optical_depth(b, c, h0, up, o, d);
+    let f0 = height_fog_light_optical_depth(b, c, h0, up, top, o, towards);
+    let f1 = tau + height_fog_light_optical_depth(b, c, h0, up, top, o + d, towards);
+    let v = dot(d, up) / max(length(d), 1e-30);
+    let r = clamp(1.0 - v / mu, -1e20, 1e20);
+    return exp(-min(f0, f1)) * tau * exp_segment_average(min(abs(r) * tau, 1e30));
+}
+
 // Transmittance exp(-OD) in (0, 1] along the same segment (arguments as above).
 fn height_fog_transmittance(b: f32, c: f32, h0: f32, up: vec3<f32>, origin: vec3<f32>, segment: vec3<f32>) -> f32 {
     return exp(-height_fog_optical_depth(b, c, h0, up, origin, segment));
@@ -118,12 +189,21 @@ fn height_fog(fog: HeightFog, origin: vec3<f32>, segment: vec3<f32>) -> vec4<f32
 // depth is exact for uniform fog along straight view rays and otherwise errs by the
 // curvature of the optical depth across the triangle.
 fn height_fog_vertex(fog: HeightFog, origin: vec3<f32>, segment: vec3<f32>) -> vec4<f32> {
-    let od = height_fog_optical_depth(fog.density, fog.falloff, fog.base_height, fog.up, origin, segment);
+    let od = height_fog_optical_depth_below(fog.density, fog.falloff, fog.base_height, fog.up, fog.top_height, origin, segment);
     let d = clamp(segment, vec3<f32>(-FOG_POSITION_LIMIT), vec3<f32>(FOG_POSITION_LIMIT));
     let view_dir = d / max(length(d), 1e-30);
     let cos_theta = clamp(dot(view_dir, fog.sun_direction), -1.0, 1.0);
     let lobe = phase_hg(cos_theta, clamp(fog.sun_g, -0.999, 0.999));
-    return vec4<f32>(fog.color + fog.sun_color * lobe, od);
+    var sun = 1.0;
+    if fog.sun_transmittance != 0u {
+        // The sun's share of the absorbed light that reached the segment through the
+        // fog: I / (1 - T), in [0, 1] (height_fog_lit_integral).
+        let absorbed = fog_inscatter(vec3<f32>(1.0), od).r;
+        let lit = height_fog_lit_integral(fog.density, fog.falloff, fog.base_height, fog.up,
+            fog.top_height, origin, segment, fog.sun_direction);
+        sun = select(1.0, clamp(lit / absorbed, 0.0, 1.0), absorbed > 0.0);
+    }
+    return vec4<f32>(fog.color + fog.sun_color * (lobe * sun), od);
 }
 
 // Fog (rgb in-scatter, a transmittance) from the interpolated output of

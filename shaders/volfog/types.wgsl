@@ -97,6 +97,11 @@ struct FogMedium {
     // noise, density texture) and is integrated by the scan with the in-scattering.
     // [0, 1e6]; 0 for a medium that only scatters.
     emission: vec3<f32>,
+    // Height (m along up) where the medium ends: its extinction and emission are 0
+    // above it, and light from the sun enters the medium there
+    // (volfog::height_fog::height_fog_light_optical_depth). 1e9 for a medium without
+    // a top.
+    top_height: f32,
 }
 
 // A local fog volume added to (or, with negative density, removed from) the medium:
@@ -211,6 +216,11 @@ struct FogLighting {
     ambient_b: vec4<f32>,
     // Number of valid entries in the light buffer.
     light_count: u32,
+    // 1: the light reaching a froxel is attenuated by the medium's height profile
+    // between the froxel and the light (the sun: up to the medium's top; point and spot
+    // lights: along the segment to the light); 0: lights reach every froxel
+    // unattenuated. Noise, density textures and local volumes are not on these paths.
+    transmittance: u32,
 }
 
 // Cascaded shadow maps of the directional light and their exponential shadow maps.
@@ -255,6 +265,13 @@ struct HeightFog {
     sun_color: vec3<f32>,
     // HG mean cosine of the sun lobe, [-0.999, 0.999].
     sun_g: f32,
+    // Height (m along up) where the fog ends: no medium above it, and the sun's light
+    // enters the fog there. 1e9 (volfog's "no top") for fog without a top.
+    top_height: f32,
+    // 1: the sun lobe is attenuated by the fog between each point and the sun
+    // (volfog::height_fog::height_fog_lit_integral); 0: the sun reaches every point
+    // unattenuated (the lobe scales 1 - T).
+    sun_transmittance: u32,
 }
 
 // An analytic fog volume (Wenzel 2007, "Fog Volumes"; volfog::fog_volume): the unit box

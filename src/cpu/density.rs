@@ -9,6 +9,7 @@
 
 use glam::{Vec2, Vec3, Vec4};
 
+use super::height_fog::{height_fog_light_optical_depth, height_fog_optical_depth_below};
 use crate::uniforms::{FogMedium, LocalVolume};
 
 /// Exponents are clamped to this magnitude.
@@ -79,7 +80,11 @@ pub fn local_volume_touches_sphere(volume: &LocalVolume, center: Vec3, radius: f
 /// modulation times texture factor), which scales its density and its emission.
 pub fn medium_shape(medium: &FogMedium, world: Vec3, noise: f32, texture_factor: f32) -> f32 {
     let h = world.dot(medium.up);
-    let profile = height_density(h, 1.0, medium.height_falloff, medium.base_height);
+    let profile = if h > medium.top_height {
+        0.0
+    } else {
+        height_density(h, 1.0, medium.height_falloff, medium.base_height)
+    };
     let modulation = (1.0 + medium.noise_strength * noise).max(0.0);
     profile * modulation * texture_factor.max(0.0)
 }
@@ -87,4 +92,35 @@ pub fn medium_shape(medium: &FogMedium, world: Vec3, noise: f32, texture_factor:
 /// Global extinction at a world position for a noise value and texture factor.
 pub fn medium_extinction(medium: &FogMedium, world: Vec3, noise: f32, texture_factor: f32) -> f32 {
     medium.density * medium_shape(medium, world, noise, texture_factor)
+}
+
+/// Transmittance of the medium's height profile (no noise, texture or local volume)
+/// from `world` towards a light infinitely far along the unit direction `towards`,
+/// entering at the medium's top (WGSL `medium_light_transmittance`).
+pub fn medium_light_transmittance(medium: &FogMedium, world: Vec3, towards: Vec3) -> f32 {
+    (-height_fog_light_optical_depth(
+        medium.density,
+        medium.height_falloff,
+        medium.base_height,
+        medium.up,
+        medium.top_height,
+        world,
+        towards,
+    ))
+    .exp()
+}
+
+/// Transmittance of the medium's height profile along the segment from `world` to a
+/// light at `light` (m) (WGSL `medium_segment_transmittance`).
+pub fn medium_segment_transmittance(medium: &FogMedium, world: Vec3, light: Vec3) -> f32 {
+    (-height_fog_optical_depth_below(
+        medium.density,
+        medium.height_falloff,
+        medium.base_height,
+        medium.up,
+        medium.top_height,
+        world,
+        light - world,
+    ))
+    .exp()
 }

@@ -85,6 +85,110 @@ pub fn height_fog_optical_depth(
     peak * (d.length() * exp_segment_average(x.abs()))
 }
 
+/// The part of the segment from `origin` to `origin + segment` below the height `top`
+/// (m along `up`) as fractions `(t0, t1)`; `t1 <= t0` when none of it is below.
+pub fn height_fog_below_top(up: Vec3, top: f32, origin: Vec3, segment: Vec3) -> (f32, f32) {
+    let h = origin.dot(up);
+    let dh = segment.dot(up);
+    if dh == 0.0 {
+        return if h <= top { (0.0, 1.0) } else { (0.0, 0.0) };
+    }
+    let t = ((top - h) / dh).clamp(0.0, 1.0);
+    if dh > 0.0 { (0.0, t) } else { (t, 1.0) }
+}
+
+/// [`height_fog_optical_depth`] of the segment's part below `top` (m along `up`): the
+/// optical depth of a profile whose medium ends at its top.
+pub fn height_fog_optical_depth_below(
+    b: f32,
+    c: f32,
+    h0: f32,
+    up: Vec3,
+    top: f32,
+    origin: Vec3,
+    segment: Vec3,
+) -> f32 {
+    let (t0, t1) = height_fog_below_top(up, top, origin, segment);
+    if t1 <= t0 {
+        return 0.0;
+    }
+    height_fog_optical_depth(b, c, h0, up, origin + segment * t0, segment * (t1 - t0))
+}
+
+/// Optical depth from `origin` towards a light infinitely far along the unit direction
+/// `towards` (the sun) through the profile below `top`: the light enters the medium at
+/// its top, `(top - h) / dot(towards, up)` metres away (for `c > 0` and a far top,
+/// Wenzel's `b exp(-c (h - h0)) / (c dot(towards, up))`). A light at or below the
+/// horizon is followed for [`FOG_POSITION_LIMIT`] metres (the transmittance falls
+/// smoothly to 0). 0 at and above the top.
+///
+/// ```
+/// use glam::Vec3;
+/// use volfog::cpu::height_fog::height_fog_light_optical_depth;
+/// use volfog::limits::NO_TOP;
+///
+/// // 0.05 / m at the ground, e times thinner every 10 m, the sun 30 degrees high.
+/// let sun = Vec3::new(30f32.to_radians().cos(), 0.5, 0.0);
+/// let od = height_fog_light_optical_depth(0.05, 0.1, 0.0, Vec3::Y, NO_TOP, Vec3::ZERO, sun);
+/// assert!((od - 0.05 / (0.1 * 0.5)).abs() < 1e-5);
+/// // Uniform fog 20 m deep: the sun crosses 40 m of it.
+/// let od = height_fog_light_optical_depth(0.05, 0.0, 0.0, Vec3::Y, 20.0, Vec3::ZERO, sun);
+/// assert!((od - 2.0).abs() < 1e-5);
+/// ```
+pub fn height_fog_light_optical_depth(
+    b: f32,
+    c: f32,
+    h0: f32,
+    up: Vec3,
+    top: f32,
+    origin: Vec3,
+    towards: Vec3,
+) -> f32 {
+    let h = origin.dot(up);
+    if h >= top {
+        return 0.0;
+    }
+    let mu = towards.dot(up);
+    let reach = if mu > 0.0 {
+        ((top - h) / mu.max(1e-30)).min(FOG_POSITION_LIMIT)
+    } else {
+        FOG_POSITION_LIMIT
+    };
+    height_fog_optical_depth(b, c, h0, up, origin, towards * reach)
+}
+
+/// Light scattered along a segment from a light infinitely far along `towards`, per
+/// unit of its radiance times phase (albedo 1): the integral of
+/// `sigma(t) exp(-tau_view(t)) exp(-tau_light(t)) dt` over the part below `top`, in
+/// closed form `exp(-min(F0, F1)) tau E(|r| tau)` with `F = tau_view + tau_light`,
+/// `r = 1 - v / mu` (WGSL `height_fog_lit_integral`). 0 for a light at or below the
+/// horizon; `1 - T` is its value without the light's transmittance.
+#[allow(clippy::too_many_arguments)]
+pub fn height_fog_lit_integral(
+    b: f32,
+    c: f32,
+    h0: f32,
+    up: Vec3,
+    top: f32,
+    origin: Vec3,
+    segment: Vec3,
+    towards: Vec3,
+) -> f32 {
+    let mu = towards.dot(up);
+    let (t0, t1) = height_fog_below_top(up, top, origin, segment);
+    if mu <= 0.0 || t1 <= t0 {
+        return 0.0;
+    }
+    let o = origin + segment * t0;
+    let d = segment * (t1 - t0);
+    let tau = height_fog_optical_depth(b, c, h0, up, o, d);
+    let f0 = height_fog_light_optical_depth(b, c, h0, up, top, o, towards);
+    let f1 = tau + height_fog_light_optical_depth(b, c, h0, up, top, o + d, towards);
+    let v = d.dot(up) / d.length().max(1e-30);
+    let r = (1.0 - v / mu).clamp(-1e20, 1e20);
+    (-f0.min(f1)).exp() * tau * exp_segment_average((r.abs() * tau).min(1e30))
+}
+
 /// Transmittance `exp(-OD)` along the segment (arguments as
 /// [`height_fog_optical_depth`]): the fraction of light that crosses it.
 pub fn height_fog_transmittance(
@@ -135,11 +239,12 @@ pub fn height_fog(fog: &HeightFog, origin: Vec3, segment: Vec3) -> Vec4 {
 /// assert!((height_fog_from_vertex(mid) - per_pixel).abs().max_element() < 1e-3);
 /// ```
 pub fn height_fog_vertex(fog: &HeightFog, origin: Vec3, segment: Vec3) -> Vec4 {
-    let od = height_fog_optical_depth(
+    let od = height_fog_optical_depth_below(
         fog.density,
         fog.falloff,
         fog.base_height,
         fog.up,
+        fog.top_height,
         origin,
         segment,
     );
@@ -150,7 +255,25 @@ pub fn height_fog_vertex(fog: &HeightFog, origin: Vec3, segment: Vec3) -> Vec4 {
     let view_dir = d / d.length().max(1e-30);
     let cos_theta = view_dir.dot(fog.sun_direction).clamp(-1.0, 1.0);
     let lobe = phase_hg(cos_theta, fog.sun_g.clamp(-0.999, 0.999));
-    (fog.color + fog.sun_color * lobe).extend(od)
+    let mut sun = 1.0;
+    if fog.sun_transmittance != 0 {
+        // The sun's share I / (1 - T) of the absorbed light, in [0, 1].
+        let absorbed = fog_inscatter(Vec3::ONE, od).x;
+        let lit = height_fog_lit_integral(
+            fog.density,
+            fog.falloff,
+            fog.base_height,
+            fog.up,
+            fog.top_height,
+            origin,
+            segment,
+            fog.sun_direction,
+        );
+        if absorbed > 0.0 {
+            sun = (lit / absorbed).clamp(0.0, 1.0);
+        }
+    }
+    (fog.color + fog.sun_color * (lobe * sun)).extend(od)
 }
 
 /// Fog `(in-scatter rgb, T)` from an interpolated [`height_fog_vertex`] value.

@@ -5,7 +5,9 @@
 use glam::{UVec3, Vec3, Vec4};
 
 use super::clouds::{CloudMap, cloud_shadow};
-use super::density::{local_volume_sample, medium_shape};
+use super::density::{
+    local_volume_sample, medium_light_transmittance, medium_segment_transmittance, medium_shape,
+};
 use super::esm::{Layer, esm_shadow};
 use super::froxel::froxel_view_position;
 use super::lights::{
@@ -146,6 +148,12 @@ pub fn froxel_scattering(inputs: &InjectInputs<'_>, id: UVec3) -> Vec4 {
         _ => shadow,
     };
     let l = inputs.lighting;
+    let through = l.transmittance != 0;
+    let shadow = if through {
+        shadow * medium_light_transmittance(m, world, l.sun.direction)
+    } else {
+        shadow
+    };
     let mut light = if inputs.options.two_color_phase {
         sun_inscatter_two_color(&l.sun, shadow, view_dir)
     } else {
@@ -154,6 +162,9 @@ pub fn froxel_scattering(inputs: &InjectInputs<'_>, id: UVec3) -> Vec4 {
     light += ambient_inscatter(l.ambient_r, l.ambient_g, l.ambient_b, view_dir, m.phase_g);
     for light_source in inputs.lights.iter().take(l.light_count as usize) {
         let mut inscatter = fog_light_inscatter(light_source, world, view_dir, m.phase_g);
+        if through {
+            inscatter *= medium_segment_transmittance(m, world, light_source.position);
+        }
         if let Some(local) = inputs
             .local_shadows
             .filter(|_| inputs.options.local_shadows)

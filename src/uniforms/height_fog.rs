@@ -30,6 +30,15 @@ pub struct HeightFog {
     pub sun_color: Vec3,
     /// HG mean cosine of the sun lobe, [-0.999, 0.999].
     pub sun_g: f32,
+    /// Height (m along `up`) where the fog ends: no medium above it, and the sun's
+    /// light enters the fog there. [`limits::NO_TOP`] (the default) for fog without a
+    /// top; |h| <= 1e9.
+    pub top_height: f32,
+    /// 1: the sun lobe is attenuated by the fog between each point and the sun (the
+    /// closed form of `volfog::height_fog::height_fog_lit_integral`); 0 (the default of
+    /// [`HeightFog::new`]): the sun reaches every point unattenuated. `VolumetricFog`
+    /// sets its tail's from [`FogConfig::light_transmittance`](crate::pipeline::FogConfig::light_transmittance).
+    pub sun_transmittance: u32,
 }
 
 impl HeightFog {
@@ -57,6 +66,8 @@ impl HeightFog {
             base_height,
             sun_color: Vec3::ZERO,
             sun_g: 0.0,
+            top_height: limits::NO_TOP,
+            sun_transmittance: 0,
         })
     }
 
@@ -69,8 +80,10 @@ impl HeightFog {
             self.falloff,
             self.base_height,
         )?
-        .with_sun(self.sun_direction, self.sun_color, self.sun_g)
-        .map(|_| ())
+        .with_sun(self.sun_direction, self.sun_color, self.sun_g)?
+        .with_top(self.top_height)?;
+        limits::Range::new(0, 1, "(0 off, 1 on)")
+            .check("HeightFog.sun_transmittance", self.sun_transmittance)
     }
 
     /// No fog: density 0 (the apply tail is then empty).
@@ -84,6 +97,8 @@ impl HeightFog {
             base_height: 0.0,
             sun_color: Vec3::ZERO,
             sun_g: 0.0,
+            top_height: limits::NO_TOP,
+            sun_transmittance: 0,
         }
     }
 
@@ -100,6 +115,7 @@ impl HeightFog {
                 .transform_vector3(self.sun_direction)
                 .normalize_or(Vec3::Y),
             base_height: self.base_height - camera.dot(self.up),
+            top_height: self.top_height - camera.dot(self.up),
             ..*self
         }
     }
@@ -121,7 +137,24 @@ impl HeightFog {
             up: medium.up,
             falloff: medium.height_falloff,
             base_height: medium.base_height,
+            top_height: medium.top_height,
             ..Self::none()
+        }
+    }
+
+    /// Ends the fog at `top_height` (m along `up`): no medium above it, and the sun's
+    /// light enters the fog there. `|top_height| <= 1e9`.
+    pub fn with_top(self, top_height: f32) -> Result<Self, InvalidValue> {
+        limits::FOG_POSITION.check("HeightFog.top_height", top_height)?;
+        Ok(Self { top_height, ..self })
+    }
+
+    /// Attenuates (`true`) or not the sun lobe by the fog between each point and the
+    /// sun (see [`HeightFog::sun_transmittance`]).
+    pub fn with_sun_transmittance(self, on: bool) -> Self {
+        Self {
+            sun_transmittance: u32::from(on),
+            ..self
         }
     }
 

@@ -172,4 +172,9 @@ pub struct FogLighting {
     pub ambient_b: Vec4,
     /// Number of lights in the light buffer.
     pub light_count: u32,
+    /// 1: light reaching a froxel is attenuated by the medium's height profile on its
+    /// way (the sun from the medium's top, point and spot lights along the segment);
+    /// 0: not. Set by the runtime from
+    /// [`FogConfig::light_transmittance`](crate::pipeline::FogConfig::light_transmittance).
+    pub transmittance: u32,
 }

@@ -39,6 +39,18 @@ pub struct FogMedium {
     /// (linear rgb, W / (sr m^3)); it follows the extinction's shape (height profile,
     /// noise, density texture). See [`limits::EMISSION`].
     pub emission: Vec3,
+    /// Height (m along `up`) where the medium ends: its extinction and emission are 0
+    /// above it, and the sun's light enters the medium there (with
+    /// [`FogConfig::light_transmittance`](crate::pipeline::FogConfig::light_transmittance)).
+    /// [`limits::NO_TOP`] (the default) for a medium without a top; a uniform medium
+    /// (`height_falloff` 0) without a top lets no sunlight through. `|h| <= 1e9`.
+    #[cfg_attr(feature = "serde", serde(default = "no_top"))]
+    pub top_height: f32,
+}
+
+#[cfg(feature = "serde")]
+fn no_top() -> f32 {
+    limits::NO_TOP
 }
 
 impl Default for FogMedium {
@@ -57,6 +69,7 @@ impl Default for FogMedium {
             phase_g: 0.4,
             local_volume_count: 0,
             emission: Vec3::ZERO,
+            top_height: limits::NO_TOP,
         }
     }
 }
@@ -98,7 +111,8 @@ impl FogMedium {
             self.phase_g,
             "-1 < g < 1",
         )?;
-        super::check_channels("FogMedium.emission", self.emission, &limits::EMISSION)
+        super::check_channels("FogMedium.emission", self.emission, &limits::EMISSION)?;
+        limits::FOG_POSITION.check("FogMedium.top_height", self.top_height)
     }
 }
 

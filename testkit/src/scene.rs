@@ -263,9 +263,13 @@ pub fn expected_uniforms(
             ambient_g: inputs.ambient.rgb[1],
             ambient_b: inputs.ambient.rgb[2],
             light_count: inputs.lights.len() as u32,
+            transmittance: u32::from(config.light_transmittance),
         },
         cascades: inputs.cascades,
-        tail: inputs.tail.to_view_space(view_from_world),
+        tail: inputs
+            .tail
+            .with_sun_transmittance(config.light_transmittance)
+            .to_view_space(view_from_world),
         view: FogView { view_from_world },
     }
 }

@@ -68,15 +68,13 @@ impl Case {
     }
 
     fn push(&self, out: &mut Vec<f32>) {
-        let f = &self.fog;
-        out.extend(f.color.to_array());
-        out.push(f.density);
-        out.extend(f.up.to_array());
-        out.push(f.falloff);
-        out.extend(f.sun_direction.to_array());
-        out.push(f.base_height);
-        out.extend(f.sun_color.to_array());
-        out.push(f.sun_g);
+        // The uniform's own layout (encase), words as f32 bit patterns.
+        out.extend(
+            self.fog
+                .to_bytes()
+                .chunks_exact(4)
+                .map(|w| f32::from_le_bytes([w[0], w[1], w[2], w[3]])),
+        );
         out.extend(self.origin.extend(self.x).to_array());
         out.extend(self.segment.extend(self.od).to_array());
     }
@@ -104,7 +102,7 @@ fn run_gpu(cases: &[Case]) -> Vec<[f32; OUTPUTS]> {
     for c in cases {
         c.push(&mut input);
     }
-    assert_eq!(input.len(), cases.len() * 24, "Case is 96 bytes in WGSL");
+    assert_eq!(input.len(), cases.len() * 28, "Case is 112 bytes in WGSL");
     let out = run_f32(
         gpu,
         KERNEL,
@@ -577,6 +575,8 @@ fn height_fog_is_finite_for_adversarial_inputs() {
             base_height: pick(&mut rng),
             sun_color: Vec3::new(1e9, 1.0, 0.0),
             sun_g: pick(&mut rng),
+            top_height: pick(&mut rng),
+            sun_transmittance: u32::from(rng.f() < 0.5),
         };
         let mut c = Case::new(fog, pickv(&mut rng), pickv(&mut rng));
         c.x = pick(&mut rng);

@@ -123,6 +123,8 @@ fn rust_layouts() -> BTreeMap<&'static str, Measured> {
             base_height: f32,
             sun_color: Vec3,
             sun_g: f32,
+            top_height: f32,
+            sun_transmittance: u32,
         }),
         measure!(FogVolume {
             local_from_world: Mat4,
@@ -232,6 +234,7 @@ fn rust_layouts() -> BTreeMap<&'static str, Measured> {
             phase_g: f32,
             local_volume_count: u32,
             emission: Vec3,
+            top_height: f32,
         }),
         measure!(LocalVolume {
             local_from_world: Mat4,
@@ -281,6 +284,7 @@ fn rust_layouts() -> BTreeMap<&'static str, Measured> {
             ambient_g: Vec4,
             ambient_b: Vec4,
             light_count: u32,
+            transmittance: u32,
         }),
         measure!(ShadowCascades {
             light_from_world: [Mat4; 4],

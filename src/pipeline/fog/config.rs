@@ -76,6 +76,14 @@ pub struct FogConfig {
     /// Shadows and cookies of point and spot lights (`VOLFOG_INJECT_LOCAL_SHADOWS`):
     /// the budget and the atlas; `None` compiles inject without them.
     pub local_shadows: Option<LocalShadowConfig>,
+    /// Attenuate the light reaching each froxel by the medium on its way (on by
+    /// default): the sun's by the height profile between the froxel and the medium's
+    /// top ([`FogMedium::top_height`](crate::uniforms::FogMedium::top_height)) in
+    /// Wenzel's closed form, a point or spot light's by the profile along the segment
+    /// to the light; the analytic tail's sun lobe likewise. The noise, the density
+    /// texture and local volumes are not on these paths (they shape the fog where it
+    /// is, not the light on its way). Off: light reaches every froxel as in clear air.
+    pub light_transmittance: bool,
 }
 
 /// The budget of shadowed point and spot lights and their ESM atlas (see
@@ -149,6 +157,7 @@ impl Default for FogConfig {
             apply_filtering: Filtering::Sampler,
             timestamps: false,
             local_shadows: Some(LocalShadowConfig::default()),
+            light_transmittance: true,
         }
     }
 }

@@ -199,9 +199,14 @@ impl FrameInputs<'_> {
                 ambient_g: self.ambient.rgb[1],
                 ambient_b: self.ambient.rgb[2],
                 light_count: self.lights.len() as u32,
+                transmittance: u32::from(config.light_transmittance),
             },
             cascades: self.cascades,
-            tail: self.tail.to_view_space(self.view_from_world),
+            tail: HeightFog {
+                sun_transmittance: u32::from(config.light_transmittance),
+                ..self.tail
+            }
+            .to_view_space(self.view_from_world),
             view: FogView {
                 view_from_world: self.view_from_world,
             },
