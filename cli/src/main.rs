@@ -5,7 +5,7 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 use clap::{Parser, Subcommand, ValueEnum};
-use volfog_cli::{bench, demo};
+use volfog_cli::{bench, demo, truth};
 use volfog_codegen::Target;
 use volfog_codegen::export::{ExportError, ExportRequest, export};
 use volfog_codegen::reflect::HlslSamplers;
@@ -67,6 +67,9 @@ enum Command {
     Demo(demo::DemoArgs),
     /// Time every pass with GPU timestamps against its floor and a per-pixel raymarch.
     Bench(bench::BenchArgs),
+    /// Compare the froxel pipeline with Mitsuba 3 in every reference scene (needs
+    /// `cargo xtask tools`).
+    Truth(truth::TruthArgs),
     /// Run every pass on the GPU against closed forms and the CPU mirror.
     Selfcheck,
     /// List the variants of every pass and their defines.
@@ -142,6 +145,7 @@ fn main() -> ExitCode {
             }
         },
         Command::Bench(args) => bench::main(args),
+        Command::Truth(args) => truth::main(&args),
         Command::Selfcheck => {
             let gpu = match volfog_testkit::Gpu::new() {
                 Ok(g) => g,

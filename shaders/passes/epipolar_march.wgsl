@@ -1,7 +1,10 @@
 // Pass epipolar_march — the lit fraction at every ray-marching sample (Yusov 2012, 6.4):
 // the shaft term of the min/max tree march (Algorithm 2), or under
 // VOLFOG_EPIPOLAR_BRUTE_FORCE of every section of the slice's height map read from the
-// shadow map (Algorithm 1, the same sum), over the sample's 1 - T. Other samples get 1.
+// shadow map (Algorithm 1, the same sum), over S_open, the same ray's term with nothing
+// shadowing it (1 - T, or under HeightFog.sun_transmittance the sun's light that
+// reaches the ray through the medium; volfog::epipolar::epipolar_lit_fraction). Other
+// samples get 1.
 //
 // Dispatch: ceil(samples / 64) x slices workgroups, after epipolar_refine and
 // epipolar_tree.

@@ -29,18 +29,30 @@
 //           2^l entries) lets the march decide long sections at once (Yusov's
 //           Algorithm 2); epipolar_march_steps visits every section (Algorithm 1) and
 //           gives the same sum.
-// In-scattering: the medium is a HeightFog (view space; falloff 0 is uniform fog) whose
-//           scattering is a constant fraction of its extinction, so the sun light
-//           scattered towards the eye over a lit section [a, b] is exactly
-//           P * (T(a) - T(b)), T the transmittance from the start of the march and P
-//           the phase term (epipolar_phase). A march gives the shaft term
-//           S = sum over lit sections of (T(a) - T(b)) (dimensionless, in [0, 1 - T]);
-//           the passes carry the lit fraction F = S / (1 - T) in [0, 1] per colour
-//           channel (1 where nothing shadows; coloured shafts weight each lit section
-//           by the light's colour there) and apply the medium per pixel: F only changes where
-//           shadows do, while 1 - T changes with every ray's height and length, and P
-//           fastest near the epipole, so neither is interpolated. Where nothing
-//           shadows, F = 1 and the fog equals volfog::height_fog's.
+// In-scattering: the medium is a HeightFog (view space: its base and top heights are
+//           measured from the camera; falloff 0 is uniform fog, capped by top_height)
+//           whose scattering is a constant fraction of its extinction. The sun light
+//           scattered towards the eye over a lit section [a, b] of the ray is P times
+//           the section's share (epipolar_lit_section, dimensionless): without
+//           fog.sun_transmittance the integral of sigma T over it, exactly T(a) - T(b),
+//           T the transmittance from the start of the march; with it the integral of
+//           sigma T T_sun, T_sun the transmittance of the medium from the point to its
+//           top towards the sun (volfog::height_fog::height_fog_lit_integral), exactly
+//           exp(-min(F(a), F(b))) tau_ab E(|r| tau_ab) with F = tau_view + tau_light,
+//           tau_ab the optical depth of [a, b] and r = 1 - v / mu (v, mu the up
+//           components of the ray's and the sun's unit directions). P is the phase term
+//           (epipolar_phase). A march gives the shaft term S = the sum of the shares of
+//           the lit sections (in [0, S_open], S_open the same sum with every section lit:
+//           1 - T, or height_fog_lit_integral over the ray); the passes carry the lit
+//           fraction F = S / S_open in [0, 1] per colour channel (1 where nothing
+//           shadows; coloured shafts weight each lit section by the light's colour
+//           there) and apply the medium per pixel, S_open included: F only changes where
+//           shadows do, while 1 - T and S_open / (1 - T) change with every ray's height
+//           and length, and P fastest near the epipole, so none of those is
+//           interpolated. Where nothing shadows, F = 1 and the fog equals
+//           volfog::height_fog's (the sun's attenuation included); the far field
+//           (volfog::apply::fog_tail_shafts) scales the tail's sun lobe, attenuated the
+//           same way, by F.
 // Reference: Yusov 2012, "Outdoor Light Scattering Sample" (sections 4 and 6: the
 //           coordinate texture, refinement, the min/max tree, Algorithm 2, the
 //           transform back to the screen with bilateral weights, correction and
@@ -48,7 +60,7 @@
 #define_import_path volfog::epipolar
 
 #import volfog::types::{EpipolarFrame, HeightFog}
-#import volfog::height_fog::{height_fog_optical_depth, fog_inscatter}
+#import volfog::height_fog::{height_fog_optical_depth_below, height_fog_lit_integral, fog_inscatter}
 #import volfog::froxel::view_from_ndc
 #import volfog::phase::{phase_hg, phase_cornette_shanks, phase_rayleigh}
 
@@ -356,19 +368,62 @@ fn epipolar_ray(frame: EpipolarFrame, map: vec4<f32>, ndc: vec2<f32>, depth0: f3
     return ray;
 }
 
-// Transmittance of the medium from the start of the ray to the fraction t of it.
+// Transmittance of the medium (below its top) from the start of the ray to the
+// fraction t of it.
 fn epipolar_transmittance(fog: HeightFog, ray: EpipolarRay, t: f32) -> f32 {
-    return exp(-height_fog_optical_depth(fog.density, fog.falloff, fog.base_height, fog.up, ray.origin, ray.segment * t));
+    return exp(-height_fog_optical_depth_below(fog.density, fog.falloff, fog.base_height, fog.up,
+        fog.top_height, ray.origin, ray.segment * t));
 }
 
-// The lit fraction F = S / (1 - T(1)) of a ray's shaft term s, in [0, 1]; 1 when the
-// ray absorbs almost nothing (1 - T <= 1e-6), where S carries no information.
+// The share of a lit part [ta, tb] (fractions) of the ray in the shaft term
+// (dimensionless, per unit of the phase term P), given the transmittances t_at_a =
+// T(ta) and t_at_b = T(tb) from the start of the ray: without fog.sun_transmittance
+// T(ta) - T(tb), the integral of sigma T over the part; with it the integral of
+// sigma T T_sun, which is T(ta) times volfog::height_fog::height_fog_lit_integral of
+// the part (whose tau_view starts at ta), together exp(-min(F(ta), F(tb))) tau E(|r| tau)
+// with F(t) = tau_view(0..t) + tau_light(p(t)), tau the optical depth of the part and
+// r = 1 - v / mu. The shares of consecutive parts add up to the share of their union.
+fn epipolar_lit_section(fog: HeightFog, ray: EpipolarRay, ta: f32, tb: f32, t_at_a: f32, t_at_b: f32) -> f32 {
+    if fog.sun_transmittance != 0u {
+        return t_at_a * height_fog_lit_integral(fog.density, fog.falloff, fog.base_height, fog.up,
+            fog.top_height, ray.origin + ray.segment * ta, ray.segment * (tb - ta), fog.sun_direction);
+    }
+    return t_at_a - t_at_b;
+}
+
+// S_open: the shaft term of the ray with nothing shadowing it (epipolar_lit_section of
+// the whole ray): 1 - T(1), or with fog.sun_transmittance the light of the sun that
+// reaches the ray through the medium and is scattered on it.
+fn epipolar_lit_open(fog: HeightFog, ray: EpipolarRay) -> f32 {
+    return epipolar_lit_section(fog, ray, 0.0, 1.0, 1.0, epipolar_transmittance(fog, ray, 1.0));
+}
+
+// The lit fraction F = S / S_open of a ray's shaft term s, in [0, 1]; 1 when the ray
+// absorbs almost nothing (1 - T <= 1e-6) or the sun reaches none of it (S_open = 0),
+// where S carries no information.
 fn epipolar_lit_fraction(fog: HeightFog, ray: EpipolarRay, s: vec3<f32>) -> vec3<f32> {
     let absorbed = 1.0 - epipolar_transmittance(fog, ray, 1.0);
-    if absorbed <= 1e-6 {
+    let open = epipolar_lit_open(fog, ray);
+    if absorbed <= 1e-6 || open <= 0.0 {
         return vec3<f32>(1.0);
     }
-    return clamp(s / absorbed, vec3<f32>(0.0), vec3<f32>(1.0));
+    return clamp(s / open, vec3<f32>(0.0), vec3<f32>(1.0));
+}
+
+// The share S_open / (1 - T) of the light the medium absorbs along the segment from
+// origin to origin + segment (m, view space) that the sun reaches, in [0, 1]: 1
+// without fog.sun_transmittance (or where nothing is absorbed), else
+// volfog::height_fog::height_fog_lit_integral over the segment divided by 1 - T, as
+// volfog::height_fog::height_fog_vertex attenuates its sun lobe. od is the segment's
+// optical depth below the top.
+fn epipolar_sun_reach(fog: HeightFog, origin: vec3<f32>, segment: vec3<f32>, od: f32) -> f32 {
+    if fog.sun_transmittance == 0u {
+        return 1.0;
+    }
+    let absorbed = fog_inscatter(vec3<f32>(1.0), od).r;
+    let lit = height_fog_lit_integral(fog.density, fog.falloff, fog.base_height, fog.up,
+        fog.top_height, origin, segment, fog.sun_direction);
+    return select(1.0, clamp(lit / absorbed, 0.0, 1.0), absorbed > 0.0);
 }
 
 // Colour of the light at height-map entry k of a slice: the light-space colour texture
@@ -396,9 +451,10 @@ fn epipolar_level_offset(size: u32, level: u32) -> u32 {
     return 2u * size - ((2u * size) >> level);
 }
 
-// Shaft term S (per colour channel) of a ray visiting every section of the slice's
-// height map, read from the shadow map (Yusov 2012, Algorithm 1). Rays whose projection
-// is shorter than a texel take one section.
+// Shaft term S (per colour channel, dimensionless: the sum of epipolar_lit_section over
+// the lit sections) of a ray visiting every section of the slice's height map, read
+// from the shadow map (Yusov 2012, Algorithm 1). Rays whose projection is shorter than a
+// texel take one section.
 fn epipolar_march_steps(
     shadow: texture_2d_array<f32>,
     layer: u32,
@@ -422,7 +478,7 @@ fn epipolar_march_steps(
 #endif
         }
         let lit = epipolar_lit(ray, 0.0, 1.0, h);
-        return select(vec3<f32>(0.0), c * (1.0 - epipolar_transmittance(fog, ray, 1.0)), lit);
+        return select(vec3<f32>(0.0), c * epipolar_lit_open(fog, ray), lit);
     }
     let stop = epipolar_ray_fraction(ray, f32(size));
     var k = u32(max(floor(ray.start), 0.0));
@@ -437,14 +493,14 @@ fn epipolar_march_steps(
 #ifdef VOLFOG_EPIPOLAR_COLORED
             c = epipolar_color(colors, map, k, size);
 #endif
-            sum += c * (t_at_a - t_at_b);
+            sum += c * epipolar_lit_section(fog, ray, ta, tb, t_at_a, t_at_b);
         }
         ta = tb;
         t_at_a = t_at_b;
         k += 1u;
     }
     // Beyond the map everything is lit, in white.
-    return sum + vec3<f32>(t_at_a - epipolar_transmittance(fog, ray, 1.0));
+    return sum + vec3<f32>(epipolar_lit_section(fog, ray, ta, 1.0, t_at_a, epipolar_transmittance(fog, ray, 1.0)));
 }
 
 // min and max of tree node `index` of level `level` of slice `slice`. Row `slice` of
@@ -496,14 +552,14 @@ fn epipolar_march_tree(
 #endif
         }
         let lit = epipolar_lit(ray, 0.0, 1.0, h);
-        return select(vec3<f32>(0.0), c * (1.0 - epipolar_transmittance(fog, ray, 1.0)), lit);
+        return select(vec3<f32>(0.0), c * epipolar_lit_open(fog, ray), lit);
     }
     let top = countTrailingZeros(size);
     let stop = epipolar_ray_fraction(ray, f32(size));
     var k = u32(max(floor(ray.start), 0.0));
     var level = 0u;
     var ta = 0.0;
-    // Consecutive lit nodes form one run [lit_from, ta]: its share T(lit_from) - T(ta)
+    // Consecutive lit nodes form one run [lit_from, ta]: its share (epipolar_lit_section)
     // is taken once, when a shadowed node (or the end) closes it.
     var lit_from = 0.0;
     var open = false;
@@ -544,14 +600,16 @@ fn epipolar_march_tree(
 #ifdef VOLFOG_EPIPOLAR_COLORED
         if lit {
             let c = epipolar_color(colors, map, k, size);
-            sum += c * (epipolar_transmittance(fog, ray, ta) - epipolar_transmittance(fog, ray, tb));
+            sum += c * epipolar_lit_section(fog, ray, ta, tb, epipolar_transmittance(fog, ray, ta),
+                epipolar_transmittance(fog, ray, tb));
         }
 #else
         if lit && !open {
             lit_from = ta;
             open = true;
         } else if !lit && open {
-            sum += vec3<f32>(epipolar_transmittance(fog, ray, lit_from) - epipolar_transmittance(fog, ray, ta));
+            sum += vec3<f32>(epipolar_lit_section(fog, ray, lit_from, ta,
+                epipolar_transmittance(fog, ray, lit_from), epipolar_transmittance(fog, ray, ta)));
             open = false;
         }
 #endif
@@ -562,7 +620,8 @@ fn epipolar_march_tree(
     if !open {
         lit_from = ta;
     }
-    return sum + vec3<f32>(epipolar_transmittance(fog, ray, lit_from) - epipolar_transmittance(fog, ray, 1.0));
+    return sum + vec3<f32>(epipolar_lit_section(fog, ray, lit_from, 1.0,
+        epipolar_transmittance(fog, ray, lit_from), epipolar_transmittance(fog, ray, 1.0)));
 }
 
 // Lit fraction F (see epipolar_lit_fraction) of the view ray through ndc from view
@@ -606,7 +665,7 @@ fn epipolar_march_pixel(
         }
         let t_at_b = epipolar_transmittance(fog, ray, tb);
         if l.z <= h {
-            sum += c * (t_at_a - t_at_b);
+            sum += c * epipolar_lit_section(fog, ray, ta, tb, t_at_a, t_at_b);
         }
         t_at_a = t_at_b;
     }
@@ -629,8 +688,10 @@ fn epipolar_phase(frame: EpipolarFrame, fog: HeightFog, view_dir: vec3<f32>) -> 
 
 // Fog of a view-space point (m) with lit fraction `shafts` (the shaft texture's rgb):
 // vec4(in-scattered radiance, transmittance) from frame.start_depth to the point (or to
-// frame.max_depth): (fog.color + P * F) * (1 - T), the medium's constant colour over
-// the whole segment, the sun's light where it reaches. Combine with
+// frame.max_depth): (fog.color + P * F * R) * (1 - T), the medium's constant colour over
+// the whole segment, the sun's light where it reaches: R = S_open / (1 - T) the share
+// the medium lets through to the segment (epipolar_sun_reach; 1 without
+// fog.sun_transmittance), so P * F * R * (1 - T) = P * S. Combine with
 // volfog::apply::apply_fog.
 fn epipolar_fog(frame: EpipolarFrame, fog: HeightFog, view_pos: vec3<f32>, shafts: vec3<f32>) -> vec4<f32> {
     let depth = abs(view_pos.z);
@@ -640,8 +701,10 @@ fn epipolar_fog(frame: EpipolarFrame, fog: HeightFog, view_pos: vec3<f32>, shaft
     }
     let origin = view_pos * (frame.start_depth / depth);
     let segment = view_pos * (end / depth) - origin;
-    let od = height_fog_optical_depth(fog.density, fog.falloff, fog.base_height, fog.up, origin, segment);
+    let od = height_fog_optical_depth_below(fog.density, fog.falloff, fog.base_height, fog.up,
+        fog.top_height, origin, segment);
     let view_dir = view_pos / length(view_pos);
-    let radiance = fog.color + epipolar_phase(frame, fog, view_dir) * clamp(shafts, vec3<f32>(0.0), vec3<f32>(1.0));
+    let lit = clamp(shafts, vec3<f32>(0.0), vec3<f32>(1.0)) * epipolar_sun_reach(fog, origin, segment, od);
+    let radiance = fog.color + epipolar_phase(frame, fog, view_dir) * lit;
     return fog_inscatter(radiance, od);
 }

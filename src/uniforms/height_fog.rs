@@ -115,7 +115,12 @@ impl HeightFog {
                 .transform_vector3(self.sun_direction)
                 .normalize_or(Vec3::Y),
             base_height: self.base_height - camera.dot(self.up),
-            top_height: self.top_height - camera.dot(self.up),
+            // No top stays no top; a top is clamped to the range a HeightFog holds.
+            top_height: if self.top_height >= limits::NO_TOP {
+                limits::NO_TOP
+            } else {
+                (self.top_height - camera.dot(self.up)).clamp(-limits::NO_TOP, limits::NO_TOP)
+            },
             ..*self
         }
     }

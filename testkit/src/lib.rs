@@ -9,5 +9,6 @@ pub mod kernel;
 pub mod rng;
 pub mod scene;
 pub mod selfcheck;
+pub mod truth;
 
 pub use gpu::{Gpu, GpuError, INSTALL_HINT};

@@ -13,6 +13,7 @@ mod fog_volume;
 mod forward_snippet;
 mod frustum;
 mod height_fog;
+mod height_fog_lit;
 mod hull;
 mod inject;
 mod js_host;
@@ -28,6 +29,8 @@ mod sky;
 mod soft_particles;
 mod temporal;
 mod transparent;
+mod truth;
+mod truth_volfog;
 mod water;
 
 /// What the test modules share: the device, kernels, inputs and the small scene.

@@ -121,6 +121,9 @@ fn missing(needs: Needs) -> Vec<&'static str> {
         "libgl-dev",
         "libegl-mesa0",
         "libgl1-mesa-dri",
+        // The libLLVM Mitsuba 3's CPU back end (Dr.Jit 1.5) loads: Mesa's libLLVM 15
+        // cannot compile its kernels.
+        "libllvm19",
     ] {
         if !dpkg_installed(package) {
             missing.push(package);

@@ -2,7 +2,9 @@
 //! front end (`slang_check`, over the compiler library of the `slangpy` wheel in a
 //! private venv), Mesa's OpenGL 4.5 driver (`gl_link`) and Dawn/Tint (the npm package
 //! `webgpu`, installed next to `tools/dawn/dawn_check.mjs` and next to the JavaScript
-//! host example in `examples/webgpu-node`).
+//! host example in `examples/webgpu-node`); and the path tracer the fog is held
+//! against, Mitsuba 3 in the same venv (`tools/mitsuba/render.py`), with the libLLVM
+//! its CPU back end needs.
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -11,6 +13,9 @@ use crate::{root, run};
 
 /// The pinned slangpy wheel (Slang 2026.12).
 const SLANGPY: &str = "slangpy==0.43.1";
+/// Mitsuba 3 and the Dr.Jit it was built against, the whole dependency closure of
+/// `mitsuba==3.9.1` (tools/mitsuba/render.py needs nothing else).
+const MITSUBA: [&str; 2] = ["mitsuba==3.9.1", "drjit==1.5.0"];
 /// The pinned Dawn node package (see tools/dawn/package-lock.json).
 const WEBGPU_VERSION: &str = "\"version\": \"0.6.2\"";
 
@@ -71,6 +76,42 @@ fn slang(dir: &Path) {
     }
 }
 
+/// Whether the venv holds exactly the pinned distributions (`name==version` each).
+fn pinned_installed(python: &Path, pins: &[&str]) -> bool {
+    let checks: Vec<String> = pins
+        .iter()
+        .filter_map(|pin| pin.split_once("=="))
+        .map(|(name, version)| format!("m.version({name:?}) == {version:?}"))
+        .collect();
+    let script = format!(
+        "import importlib.metadata as m, sys; sys.exit(0 if {} else 1)",
+        checks.join(" and ")
+    );
+    Command::new(python)
+        .args(["-c", &script])
+        .output()
+        .map(|o| o.status.success())
+        .unwrap_or(false)
+}
+
+/// Mitsuba 3 into the tools' venv (pinned, no dependency resolution); the libLLVM 19
+/// its CPU back end loads is a system package (`system::ensure`).
+fn mitsuba(dir: &Path) {
+    let python = dir.join("venv").join("bin").join("python3");
+    if !pinned_installed(&python, &MITSUBA) {
+        run(Command::new(&python)
+            .args([
+                "-m",
+                "pip",
+                "install",
+                "--quiet",
+                "--disable-pip-version-check",
+                "--no-deps",
+            ])
+            .args(MITSUBA));
+    }
+}
+
 fn gl(dir: &Path) {
     let source = root().join("tools/gl");
     let binary = dir.join("bin/gl_link");
@@ -103,6 +144,7 @@ pub fn ensure() -> PathBuf {
     let dir = dir();
     std::fs::create_dir_all(dir.join("bin")).expect("create target/tools");
     slang(&dir);
+    mitsuba(&dir);
     gl(&dir);
     dawn();
     dir

@@ -265,6 +265,9 @@ pub struct Report {
     pub shafts: ShaftCost,
     /// Shadowed point and spot lights.
     pub local_shadows: LocalShadowCost,
+    /// Median inject with `FogConfig::light_transmittance` (the default) / without:
+    /// what attenuating the sun and the scene's lights through the medium costs.
+    pub transmittance_inject_vs_without: f64,
     /// Wall-clock time of the whole run, seconds.
     pub wall_seconds: f64,
 }
@@ -414,6 +417,7 @@ pub(super) fn summarize(
         over_budget: local.stats.unshadowed,
         light_through_shadows: local.light_through_shadows,
     };
+    let transmittance_inject_vs_without = median("inject") / median("inject_no_transmittance");
     let mib = to_mib(memory_bytes);
     Report {
         adapter: gpu.info.name.clone(),
@@ -438,6 +442,7 @@ pub(super) fn summarize(
         atmosphere,
         shafts,
         local_shadows,
+        transmittance_inject_vs_without,
         memory: Memory {
             bytes: memory_bytes,
             mib,
@@ -590,6 +595,11 @@ pub fn table(report: &Report) -> String {
         "{:<36} {:>6.2} MiB",
         "EpipolarShafts::memory_bytes",
         to_mib(i.memory_bytes)
+    );
+    let _ = writeln!(
+        out,
+        "{:<36} {:>9.3}x  (the sun and the scene's lights through the medium's height profile)",
+        "inject / inject, transmittance off", report.transmittance_inject_vs_without
     );
     let _ = writeln!(
         out,

@@ -7,6 +7,7 @@ pub(super) const SERIES: &[(&str, &str)] = &[
     ("esm_downsample", "esm downsample (4 cascades)"),
     ("esm_blur", "esm blur (x + y)"),
     ("inject", "inject 160x90x128"),
+    ("inject_no_transmittance", "inject, light transmittance off"),
     ("temporal", "temporal 160x90x128"),
     ("scan", "scan 160x90x128"),
     ("cull", "froxel_cull, 1080p depth +"),
@@ -116,6 +117,8 @@ pub(super) struct Workloads {
     pub(super) main: Screen,
     /// Culling, checkerboard, noise texture, all three (see [`variant_configs`]).
     pub(super) variants: [Screen; 4],
+    /// The baseline with `FogConfig::light_transmittance` off.
+    pub(super) untransmitted: Screen,
     pub(super) small: Screen,
     pub(super) large: Screen,
     pub(super) write: VolumePass,
@@ -163,6 +166,16 @@ impl Workloads {
             Screen::new(gpu, &c, &shadow_map, &depth, SCREEN)?,
             Screen::new(gpu, &d, &shadow_map, &depth, SCREEN)?,
         ];
+        let untransmitted = Screen::new(
+            gpu,
+            &FogConfig {
+                light_transmittance: false,
+                ..config.clone()
+            },
+            &shadow_map,
+            &depth,
+            SCREEN,
+        )?;
         let small_depth = Screen::scene_depth(gpu, &scene, SMALL_SCREEN)?;
         let small = Screen::new(gpu, &config, &shadow_map, &small_depth, SMALL_SCREEN)?;
         let large_depth = Screen::scene_depth(gpu, &scene, LARGE_SCREEN)?;
@@ -204,6 +217,7 @@ impl Workloads {
             cascades,
             main,
             variants,
+            untransmitted,
             small,
             large,
             write,
@@ -232,6 +246,7 @@ impl Workloads {
             &mut self.main,
             &mut self.small,
             &mut self.large,
+            &mut self.untransmitted,
             v0,
             v1,
             v2,
@@ -239,7 +254,14 @@ impl Workloads {
         ] {
             s.fog.prepare(&gpu.queue, &inputs)?;
         }
-        let (tg, tc) = self.main.frame(gpu)?;
+        // The baseline and the same without light transmittance, in alternating order.
+        let ((tg, tc), untransmitted) = if f.is_multiple_of(2) {
+            let main = self.main.frame(gpu)?;
+            (main, self.untransmitted.frame(gpu)?)
+        } else {
+            let untransmitted = self.untransmitted.frame(gpu)?;
+            (self.main.frame(gpu)?, untransmitted)
+        };
         let mut variants = Vec::new();
         for s in &mut self.variants {
             variants.push(s.frame(gpu)?);
@@ -303,6 +325,10 @@ impl Workloads {
             ("esm_downsample", both(&|p| p.esm_downsample, &main)),
             ("esm_blur", both(&|p| p.esm_blur, &main)),
             ("inject", both(&|p| p.inject, &main)),
+            (
+                "inject_no_transmittance",
+                both(&|p| p.inject, &untransmitted),
+            ),
             ("temporal", both(&|p| p.temporal, &main)),
             ("scan", both(&|p| p.scan, &main)),
             ("copy", copy_t),

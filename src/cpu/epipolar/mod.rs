@@ -36,7 +36,8 @@ pub use lines::{
     pixel_slice, sample_position,
 };
 pub use march::{
-    lit, lit_fraction, march_pixel, march_steps, march_tree, ray_fraction, transmittance,
+    lit, lit_fraction, lit_open, lit_section, march_pixel, march_steps, march_tree, ray_fraction,
+    sun_reach, transmittance,
 };
 pub use refine::{
     continuous, pack_sources, refine_slice, refine_slice_naive, section, sources, unpack_sources,

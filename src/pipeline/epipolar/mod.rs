@@ -21,8 +21,9 @@ pub use shafts::EpipolarShafts;
 
 /// Format of the shaft texture: rgb the lit fraction F in [0, 1] per colour channel (the
 /// share of the medium's sun in-scattering along the pixel's ray that the sun reaches:
-/// 1 unshadowed; the light's colour after stained glass for coloured shafts), a the
-/// view depth (m).
+/// 1 unshadowed; the light's colour after stained glass for coloured shafts; with
+/// `HeightFog::sun_transmittance` the share of the light attenuated by the fog on its
+/// way from the sun, which the composite applies per pixel), a the view depth (m).
 pub const SHAFT_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
 /// Formats the depth buffer may have (read as unfilterable float).
 pub const DEPTH_FORMATS: [wgpu::TextureFormat; 5] = super::SCENE_DEPTH_FORMATS;

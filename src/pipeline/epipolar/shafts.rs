@@ -135,8 +135,11 @@ impl EpipolarShafts {
     }
 
     /// Writes the frame: the camera and cascade in `view`, the medium `medium` in
-    /// world space (its `sun_direction` is the light's; uniform fog has falloff 0).
-    /// Returns the frame written.
+    /// world space (its `sun_direction` is the light's; uniform fog has falloff 0, a
+    /// `top_height` ends it; `sun_transmittance` attenuates the sun's light by the fog
+    /// between each point and the sun; as the far field of a `VolumetricFog`, pass its
+    /// tail with `sun_transmittance` as `FogConfig::light_transmittance`). Returns the
+    /// frame written.
     pub fn prepare(
         &mut self,
         queue: &wgpu::Queue,

@@ -1,9 +1,10 @@
 //! The final shaft image against the per-pixel brute-force reference (full and half
-//! resolution), and the main job's self-check of the shafts.
+//! resolution; without and with the sun's transmittance), and the main job's
+//! self-check of the shafts.
 
 use super::{Scene, occluders, run, sun_direction};
 use crate::common::gpu;
-use glam::{Vec2, Vec4};
+use glam::{Vec2, Vec3, Vec4};
 use volfog::cpu::epipolar as cpu;
 use volfog::pipeline::epipolar::{EpipolarMode, EpipolarShafts};
 use volfog::uniforms::{EpipolarFrame, EpipolarSampling};
@@ -20,9 +21,16 @@ fn mean_where(s: &[Vec4], keep: impl Fn(usize) -> bool) -> (f32, usize) {
 
 #[test]
 fn final_image_matches_the_per_pixel_reference() {
+    for transmittance in [false, true] {
+        final_image_case(transmittance);
+    }
+}
+
+fn final_image_case(transmittance: bool) {
     let gpu = gpu();
-    let scene = Scene::new(192, 108, 512, &occluders(), sun_direction());
-    let open = Scene::new(192, 108, 512, &[], sun_direction());
+    let scene =
+        Scene::new(192, 108, 512, &occluders(), sun_direction()).with_transmittance(transmittance);
+    let open = Scene::new(192, 108, 512, &[], sun_direction()).with_transmittance(transmittance);
     let sampling = scene.sampling();
     let read = |s: &EpipolarShafts| gpu.read_texture_rgba16f(s.shaft_texture()).unwrap();
     let (reference, _) = run(gpu, &scene, sampling, EpipolarMode::Reference, None);
@@ -51,11 +59,12 @@ fn final_image_matches_the_per_pixel_reference() {
                 1.0 - (y as f32 + 0.5) / scene.height as f32 * 2.0,
             );
             let ray = cpu::view_ray(frame.view_from_clip, ndc);
-            let p = cpu::phase(&frame, &medium, ray.normalize());
             let lit = cpu::fog(&frame, &medium, ray * want.w, want.truncate());
             let got_lit = cpu::fog(&frame, &medium, ray * want.w, got.truncate());
+            let dark = cpu::fog(&frame, &medium, ray * want.w, Vec3::ZERO);
             err_light += f64::from((got_lit - lit).abs().max_element());
-            light_scale += f64::from((p * want.x * (1.0 - lit.w)).max_element());
+            // The sun's light P F R (1 - T) of the reference.
+            light_scale += f64::from((lit - dark).truncate().max_element());
         }
         let n = image.len() as f64;
         // The occluders' shafts: pixels whose reference S drops by more than 20 % when
@@ -70,7 +79,7 @@ fn final_image_matches_the_per_pixel_reference() {
         let (got_lit, _) = mean_where(&image, lit);
         let (ratio_ref, ratio_got) = (ref_lit / ref_shadowed, got_lit / got_shadowed);
         eprintln!(
-            "downscale {downscale}: lit fraction mean abs error {:.2e} (bound 1e-2), worst {worst:.3}; in-scattered light mean abs error {:.2e} = {:.2} % of the sun's mean (bound 1 %); corrected pixels {fixed_resolve} (resolve) + {fixed_upscale} (upscale); shaft ratio lit/shadowed (sky, {n_lit} / {n_shadowed} px) reference {ratio_ref:.2}, epipolar {ratio_got:.2}",
+            "sun transmittance {transmittance}, downscale {downscale}: lit fraction mean abs error {:.2e} (bound 1e-2), worst {worst:.3}; in-scattered light mean abs error {:.2e} = {:.2} % of the sun's mean (bound 1 %); corrected pixels {fixed_resolve} (resolve) + {fixed_upscale} (upscale); shaft ratio lit/shadowed (sky, {n_lit} / {n_shadowed} px) reference {ratio_ref:.2}, epipolar {ratio_got:.2}",
             err / n,
             err_light / n,
             100.0 * err_light / light_scale,

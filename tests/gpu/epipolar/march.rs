@@ -1,5 +1,6 @@
 //! The min/max tree march against the march over every section and the CPU mirror,
-//! with white light and with coloured shafts (a light-space colour texture).
+//! with white light and with coloured shafts (a light-space colour texture), without and
+//! with the sun's transmittance through the medium.
 
 use super::{Scene, occluders, read_rgb, read_uvec2, read_vec4, run, sun_direction};
 use crate::common::gpu;
@@ -10,8 +11,15 @@ use volfog::uniforms::{EpipolarFrame, EpipolarSampling};
 
 #[test]
 fn tree_march_equals_the_march_over_every_section() {
+    for transmittance in [false, true] {
+        tree_march_case(transmittance);
+    }
+}
+
+fn tree_march_case(transmittance: bool) {
     let gpu = gpu();
-    let scene = Scene::new(160, 90, 512, &occluders(), sun_direction());
+    let scene =
+        Scene::new(160, 90, 512, &occluders(), sun_direction()).with_transmittance(transmittance);
     let sampling = scene.sampling();
     let (tree, frame) = run(gpu, &scene, sampling, EpipolarMode::Tree, None);
     let (steps, _) = run(gpu, &scene, sampling, EpipolarMode::Steps, None);
@@ -60,7 +68,7 @@ fn tree_march_equals_the_march_over_every_section() {
         worst_cpu = worst_cpu.max((a[i] - want).abs() / want.abs().max(1e-6));
     }
     eprintln!(
-        "{count} ray-marching samples, {partial} partly shadowed: lit fraction of the tree march vs every section worst {worst:.2e} relative (bound 1e-4); tree GPU vs CPU worst {worst_cpu:.2e} (bound 1e-4)"
+        "sun transmittance {transmittance}: {count} ray-marching samples, {partial} partly shadowed: lit fraction of the tree march vs every section worst {worst:.2e} relative (bound 1e-4); tree GPU vs CPU worst {worst_cpu:.2e} (bound 1e-4)"
     );
     assert!(count > 2000 && partial > 200, "{count} {partial}");
     assert!(worst <= 1e-4, "{worst}");
@@ -74,8 +82,16 @@ fn tree_march_equals_the_march_over_every_section() {
 /// image channel by channel.
 #[test]
 fn coloured_shafts_match_every_section_the_cpu_and_the_reference() {
+    coloured_case(false);
+    // With the sun's transmittance: the marches and the CPU mirror (the image against
+    // the reference is the same composition, checked once).
+    coloured_case(true);
+}
+
+fn coloured_case(transmittance: bool) {
     let gpu = gpu();
-    let scene = Scene::new(192, 108, 512, &occluders(), sun_direction());
+    let scene =
+        Scene::new(192, 108, 512, &occluders(), sun_direction()).with_transmittance(transmittance);
     let size = scene.shadow_size;
     // Values exact in f16, so the CPU reads what the GPU reads.
     let band = |t: u32| {
@@ -160,15 +176,20 @@ fn coloured_shafts_match_every_section_the_cpu_and_the_reference() {
         }
         worst_cpu = worst_cpu.max(e);
     }
-    // The image against the coloured per-pixel reference, and a uniform colour against
-    // the white image.
-    let (reference, _) = run_colored(&colors, EpipolarMode::Reference);
+    // The image against the coloured per-pixel reference (without the sun's
+    // transmittance; final_image_matches_the_per_pixel_reference checks the image with
+    // it), and a uniform colour against the white image.
     let image = gpu.read_texture_rgba16f(tree.shaft_texture()).unwrap();
-    let reference = gpu.read_texture_rgba16f(reference.shaft_texture()).unwrap();
-    let n = image.len() as f32;
-    let err = image.iter().zip(&reference).fold(Vec3::ZERO, |e, (g, w)| {
-        e + (g.truncate() - w.truncate()).abs()
-    }) / n;
+    let err = if transmittance {
+        Vec3::ZERO
+    } else {
+        let (reference, _) = run_colored(&colors, EpipolarMode::Reference);
+        let reference = gpu.read_texture_rgba16f(reference.shaft_texture()).unwrap();
+        let n = image.len() as f32;
+        image.iter().zip(&reference).fold(Vec3::ZERO, |e, (g, w)| {
+            e + (g.truncate() - w.truncate()).abs()
+        }) / n
+    };
     let tint = Vec3::new(0.75, 0.5, 0.125);
     let (uniform, _) = run_colored(&vec![tint; (size * size) as usize], EpipolarMode::Tree);
     let (white, _) = run(gpu, &scene, scene.sampling(), EpipolarMode::Tree, None);
@@ -182,9 +203,13 @@ fn coloured_shafts_match_every_section_the_cpu_and_the_reference() {
         .filter(|(_, w)| w.w <= 60.0)
         .map(|(t, w)| (t.truncate() - tint * w.x).abs().max_element())
         .fold(0.0f32, f32::max);
+    let against_reference = if transmittance {
+        "not compared".to_string()
+    } else {
+        format!("{:.2e} / {:.2e} / {:.2e} (bound 1e-2)", err.x, err.y, err.z)
+    };
     eprintln!(
-        "coloured: {count} ray-marching samples, {tinted} tinted: tree vs every section {worst:.2e} relative (bound 1e-4), GPU vs CPU {worst_cpu:.2e} (bound 1e-2; {flips} samples above 1e-4, bound 1 %); image vs coloured reference mean abs error per channel {:.2e} / {:.2e} / {:.2e} (bound 1e-2); uniform tint vs tint x white image {scale:.2e} (bound 2e-3)",
-        err.x, err.y, err.z
+        "coloured, sun transmittance {transmittance}: {count} ray-marching samples, {tinted} tinted: tree vs every section {worst:.2e} relative (bound 1e-4), GPU vs CPU {worst_cpu:.2e} (bound 1e-2; {flips} samples above 1e-4, bound 1 %); image vs coloured reference mean abs error per channel {against_reference}; uniform tint vs tint x white image {scale:.2e} (bound 2e-3)"
     );
     assert!(count > 2000 && tinted > 200, "{count} {tinted}");
     // A section whose texel position lies within f32 rounding of a texel edge can read

@@ -26,6 +26,8 @@ type Aabb = (Vec3, Vec3);
 
 /// The test scene: a ground plane, three pillars and a bar across them, a low sun ahead
 /// of the camera; depth buffer and shadow map ray traced from the same boxes.
+/// `transmittance` gives the medium a top 14 m up and attenuates the sun's light by the
+/// fog between each point and the sun (`HeightFog::sun_transmittance`).
 struct Scene {
     width: u32,
     height: u32,
@@ -36,6 +38,7 @@ struct Scene {
     shadow_size: u32,
     shadow: Vec<f32>,
     depth: Vec<f32>,
+    transmittance: bool,
 }
 
 const FAR: f32 = 400.0;
@@ -135,14 +138,31 @@ impl Scene {
             shadow_size,
             shadow,
             depth,
+            transmittance: false,
         }
     }
 
+    /// The scene with the sun's transmittance on or off (see [`Scene::medium`]).
+    fn with_transmittance(self, on: bool) -> Self {
+        Self {
+            transmittance: on,
+            ..self
+        }
+    }
+
+    /// The medium (world space): exponential fog, 0.02 / m at the ground thinning e
+    /// times every 25 m; with `transmittance` ending 14 m up (above the pillars' shafts,
+    /// below the lintel's top) and attenuating the sun's light on its way.
     fn medium(&self) -> HeightFog {
-        HeightFog::new(Vec3::new(0.02, 0.025, 0.03), 0.02, Vec3::Y, 0.04, 0.0)
+        let fog = HeightFog::new(Vec3::new(0.02, 0.025, 0.03), 0.02, Vec3::Y, 0.04, 0.0)
             .unwrap()
             .with_sun(self.sun, Vec3::new(3.0, 2.8, 2.5), 0.5)
-            .unwrap()
+            .unwrap();
+        if self.transmittance {
+            fog.with_top(14.0).unwrap().with_sun_transmittance(true)
+        } else {
+            fog
+        }
     }
 
     fn view(&self, start_depth: f32) -> EpipolarView {

@@ -9,7 +9,8 @@ use volfog::uniforms::{EpipolarFrame, HeightFog};
 /// The functions the passes use per pixel, on the GPU against the CPU mirror for random
 /// inputs: the slice of a screen point, its position on that slice's line, the
 /// standalone fog with a lit fraction and the far-field tail of the forward snippet
-/// (`volfog::apply::fog_tail_shafts`).
+/// (`volfog::apply::fog_tail_shafts`), half of them with the sun's transmittance
+/// through the medium (and a top).
 #[test]
 fn per_pixel_functions_match_the_cpu() {
     use volfog::uniforms::Froxels;
@@ -82,7 +83,14 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
             Vec3::splat(rng.range(0.0, 4.0)),
             rng.range(-0.9, 0.9),
         )
-        .unwrap();
+        .unwrap()
+        // Half the cases with the sun's transmittance, half of those under a top.
+        .with_sun_transmittance(i % 4 < 2);
+        let fog = if i % 4 == 0 {
+            fog.with_top(rng.range(-10.0, 40.0)).unwrap()
+        } else {
+            fog
+        };
         let point = Vec2::new(rng.range(-0.999, 0.999), rng.range(-0.999, 0.999));
         let (f0, f1) = (rng.range(0.0, 1.0), rng.range(0.0, 1.0));
         let fraction = Vec3::new(f0, f1, 0.5 * (f0 + f1));

@@ -1,0 +1,10 @@
+//! Path-traced references for volfog's froxel fog: one scene description
+//! ([`scene::TruthScene`]), the scenes themselves ([`scenes`]) and Mitsuba 3's
+//! `volpath` integrator in single scattering as the reference renderer ([`mitsuba`]).
+
+pub mod compare;
+pub mod mitsuba;
+pub mod report;
+pub mod scene;
+pub mod scenes;
+pub mod volfog;
