@@ -60,7 +60,7 @@
 #define_import_path volfog::epipolar
 
 #import volfog::types::{EpipolarFrame, HeightFog}
-#import volfog::height_fog::{height_fog_optical_depth_below, height_fog_lit_integral, fog_inscatter}
+#import volfog::height_fog::{height_fog_optical_depth_below, height_fog_lit_integral, height_fog_sun_share, fog_inscatter}
 #import volfog::froxel::view_from_ndc
 #import volfog::phase::{phase_hg, phase_cornette_shanks, phase_rayleigh}
 
@@ -410,22 +410,6 @@ fn epipolar_lit_fraction(fog: HeightFog, ray: EpipolarRay, s: vec3<f32>) -> vec3
     return clamp(s / open, vec3<f32>(0.0), vec3<f32>(1.0));
 }
 
-// The share S_open / (1 - T) of the light the medium absorbs along the segment from
-// origin to origin + segment (m, view space) that the sun reaches, in [0, 1]: 1
-// without fog.sun_transmittance (or where nothing is absorbed), else
-// volfog::height_fog::height_fog_lit_integral over the segment divided by 1 - T, as
-// volfog::height_fog::height_fog_vertex attenuates its sun lobe. od is the segment's
-// optical depth below the top.
-fn epipolar_sun_reach(fog: HeightFog, origin: vec3<f32>, segment: vec3<f32>, od: f32) -> f32 {
-    if fog.sun_transmittance == 0u {
-        return 1.0;
-    }
-    let absorbed = fog_inscatter(vec3<f32>(1.0), od).r;
-    let lit = height_fog_lit_integral(fog.density, fog.falloff, fog.base_height, fog.up,
-        fog.top_height, origin, segment, fog.sun_direction);
-    return select(1.0, clamp(lit / absorbed, 0.0, 1.0), absorbed > 0.0);
-}
-
 // Colour of the light at height-map entry k of a slice: the light-space colour texture
 // at the texel of epipolar_height (white off the map).
 fn epipolar_color(colors: texture_2d<f32>, map: vec4<f32>, k: u32, size: u32) -> vec3<f32> {
@@ -690,7 +674,7 @@ fn epipolar_phase(frame: EpipolarFrame, fog: HeightFog, view_dir: vec3<f32>) -> 
 // vec4(in-scattered radiance, transmittance) from frame.start_depth to the point (or to
 // frame.max_depth): (fog.color + P * F * R) * (1 - T), the medium's constant colour over
 // the whole segment, the sun's light where it reaches: R = S_open / (1 - T) the share
-// the medium lets through to the segment (epipolar_sun_reach; 1 without
+// the medium lets through to the segment (height_fog_sun_share; 1 without
 // fog.sun_transmittance), so P * F * R * (1 - T) = P * S. Combine with
 // volfog::apply::apply_fog.
 fn epipolar_fog(frame: EpipolarFrame, fog: HeightFog, view_pos: vec3<f32>, shafts: vec3<f32>) -> vec4<f32> {
@@ -704,7 +688,7 @@ fn epipolar_fog(frame: EpipolarFrame, fog: HeightFog, view_pos: vec3<f32>, shaft
     let od = height_fog_optical_depth_below(fog.density, fog.falloff, fog.base_height, fog.up,
         fog.top_height, origin, segment);
     let view_dir = view_pos / length(view_pos);
-    let lit = clamp(shafts, vec3<f32>(0.0), vec3<f32>(1.0)) * epipolar_sun_reach(fog, origin, segment, od);
+    let lit = clamp(shafts, vec3<f32>(0.0), vec3<f32>(1.0)) * height_fog_sun_share(fog, origin, segment, od);
     let radiance = fog.color + epipolar_phase(frame, fog, view_dir) * lit;
     return fog_inscatter(radiance, od);
 }

@@ -194,16 +194,22 @@ fn height_fog_vertex(fog: HeightFog, origin: vec3<f32>, segment: vec3<f32>) -> v
     let view_dir = d / max(length(d), 1e-30);
     let cos_theta = clamp(dot(view_dir, fog.sun_direction), -1.0, 1.0);
     let lobe = phase_hg(cos_theta, clamp(fog.sun_g, -0.999, 0.999));
-    var sun = 1.0;
-    if fog.sun_transmittance != 0u {
-        // The sun's share of the absorbed light that reached the segment through the
-        // fog: I / (1 - T), in [0, 1] (height_fog_lit_integral).
-        let absorbed = fog_inscatter(vec3<f32>(1.0), od).r;
-        let lit = height_fog_lit_integral(fog.density, fog.falloff, fog.base_height, fog.up,
-            fog.top_height, origin, segment, fog.sun_direction);
-        sun = select(1.0, clamp(lit / absorbed, 0.0, 1.0), absorbed > 0.0);
-    }
+    let sun = height_fog_sun_share(fog, origin, segment, od);
     return vec4<f32>(fog.color + fog.sun_color * (lobe * sun), od);
+}
+
+// The share in [0, 1] of the sun's light that reaches a segment through the fog, per
+// unit of the light it absorbs: height_fog_lit_integral / (1 - T) with fog.
+// sun_transmittance, 1 without it (or where nothing is absorbed). od is the segment's
+// optical depth below the top (height_fog_optical_depth_below).
+fn height_fog_sun_share(fog: HeightFog, origin: vec3<f32>, segment: vec3<f32>, od: f32) -> f32 {
+    if fog.sun_transmittance == 0u {
+        return 1.0;
+    }
+    let absorbed = fog_inscatter(vec3<f32>(1.0), od).r;
+    let lit = height_fog_lit_integral(fog.density, fog.falloff, fog.base_height, fog.up,
+        fog.top_height, origin, segment, fog.sun_direction);
+    return select(1.0, clamp(lit / absorbed, 0.0, 1.0), absorbed > 0.0);
 }
 
 // Fog (rgb in-scatter, a transmittance) from the interpolated output of

@@ -255,25 +255,34 @@ pub fn height_fog_vertex(fog: &HeightFog, origin: Vec3, segment: Vec3) -> Vec4 {
     let view_dir = d / d.length().max(1e-30);
     let cos_theta = view_dir.dot(fog.sun_direction).clamp(-1.0, 1.0);
     let lobe = phase_hg(cos_theta, fog.sun_g.clamp(-0.999, 0.999));
-    let mut sun = 1.0;
-    if fog.sun_transmittance != 0 {
-        // The sun's share I / (1 - T) of the absorbed light, in [0, 1].
-        let absorbed = fog_inscatter(Vec3::ONE, od).x;
-        let lit = height_fog_lit_integral(
-            fog.density,
-            fog.falloff,
-            fog.base_height,
-            fog.up,
-            fog.top_height,
-            origin,
-            segment,
-            fog.sun_direction,
-        );
-        if absorbed > 0.0 {
-            sun = (lit / absorbed).clamp(0.0, 1.0);
-        }
-    }
+    let sun = height_fog_sun_share(fog, origin, segment, od);
     (fog.color + fog.sun_color * (lobe * sun)).extend(od)
+}
+
+/// The share in `[0, 1]` of the sun's light that reaches a segment through the fog, per
+/// unit of the light it absorbs: [`height_fog_lit_integral`] / `(1 - T)` with
+/// `fog.sun_transmittance`, 1 without it (or where nothing is absorbed); `od` is the
+/// segment's optical depth below the top (WGSL `height_fog_sun_share`).
+pub fn height_fog_sun_share(fog: &HeightFog, origin: Vec3, segment: Vec3, od: f32) -> f32 {
+    if fog.sun_transmittance == 0 {
+        return 1.0;
+    }
+    let absorbed = fog_inscatter(Vec3::ONE, od).x;
+    let lit = height_fog_lit_integral(
+        fog.density,
+        fog.falloff,
+        fog.base_height,
+        fog.up,
+        fog.top_height,
+        origin,
+        segment,
+        fog.sun_direction,
+    );
+    if absorbed > 0.0 {
+        (lit / absorbed).clamp(0.0, 1.0)
+    } else {
+        1.0
+    }
 }
 
 /// Fog `(in-scatter rgb, T)` from an interpolated [`height_fog_vertex`] value.

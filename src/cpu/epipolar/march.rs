@@ -8,9 +8,7 @@ use super::height_map::{
 };
 use super::tree::MinMaxTree;
 use super::{LIT_DEPTH, mix};
-use crate::cpu::height_fog::{
-    fog_inscatter, height_fog_lit_integral, height_fog_optical_depth_below,
-};
+use crate::cpu::height_fog::{height_fog_lit_integral, height_fog_optical_depth_below};
 use crate::uniforms::{EpipolarFrame, HeightFog};
 
 /// Transmittance of the medium `fog` (view space, below its top) from the start of
@@ -63,32 +61,6 @@ pub fn lit_section(
 /// `volfog::epipolar::epipolar_lit_open`.
 pub fn lit_open(fog: &HeightFog, ray: &EpipolarRay) -> f32 {
     lit_section(fog, ray, (0.0, 1.0), 1.0, transmittance(fog, ray, 1.0))
-}
-
-/// The share `S_open / (1 - T)` in [0, 1] of the light the medium absorbs along the
-/// segment from `origin` to `origin + segment` (view space, m; optical depth `od` below
-/// the top) that the sun reaches: 1 without `fog.sun_transmittance`; mirror of
-/// `volfog::epipolar::epipolar_sun_reach`.
-pub fn sun_reach(fog: &HeightFog, origin: Vec3, segment: Vec3, od: f32) -> f32 {
-    if fog.sun_transmittance == 0 {
-        return 1.0;
-    }
-    let absorbed = fog_inscatter(Vec3::ONE, od).x;
-    let lit = height_fog_lit_integral(
-        fog.density,
-        fog.falloff,
-        fog.base_height,
-        fog.up,
-        fog.top_height,
-        origin,
-        segment,
-        fog.sun_direction,
-    );
-    if absorbed > 0.0 {
-        (lit / absorbed).clamp(0.0, 1.0)
-    } else {
-        1.0
-    }
 }
 
 /// Fraction in [0, 1] of `ray` where its projection reaches height-map position `i`

@@ -37,7 +37,7 @@ pub use lines::{
 };
 pub use march::{
     lit, lit_fraction, lit_open, lit_section, march_pixel, march_steps, march_tree, ray_fraction,
-    sun_reach, transmittance,
+    transmittance,
 };
 pub use refine::{
     continuous, pack_sources, refine_slice, refine_slice_naive, section, sources, unpack_sources,

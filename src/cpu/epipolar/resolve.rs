@@ -3,9 +3,8 @@
 
 use glam::{Vec2, Vec3, Vec4};
 
-use super::march::sun_reach;
 use crate::cpu::froxel::view_from_ndc;
-use crate::cpu::height_fog::height_fog_optical_depth_below;
+use crate::cpu::height_fog::{height_fog_optical_depth_below, height_fog_sun_share};
 use crate::cpu::phase::{phase_cornette_shanks, phase_hg, phase_rayleigh};
 use crate::uniforms::{EpipolarFrame, HeightFog};
 
@@ -41,7 +40,7 @@ pub fn phase(frame: &EpipolarFrame, fog: &HeightFog, view_dir: Vec3) -> Vec3 {
 /// Fog `(in-scattered radiance rgb, transmittance)` from `frame.start_depth` to the
 /// view-space point `view_pos` (m, at most `frame.max_depth`) with lit fraction `shafts`
 /// (per channel): `(color + P F R) (1 - T)`, `R` the share of the absorbed light the sun
-/// reaches through the medium ([`sun_reach`]); mirror of `volfog::epipolar::epipolar_fog`.
+/// reaches through the medium ([`height_fog_sun_share`]); mirror of `volfog::epipolar::epipolar_fog`.
 pub fn fog(frame: &EpipolarFrame, fog: &HeightFog, view_pos: Vec3, shafts: Vec3) -> Vec4 {
     let depth = view_pos.z.abs();
     let end = depth.min(frame.max_depth);
@@ -60,7 +59,7 @@ pub fn fog(frame: &EpipolarFrame, fog: &HeightFog, view_pos: Vec3, shafts: Vec3)
         segment,
     );
     let view_dir = view_pos / view_pos.length();
-    let lit = shafts.clamp(Vec3::ZERO, Vec3::ONE) * sun_reach(fog, origin, segment, od);
+    let lit = shafts.clamp(Vec3::ZERO, Vec3::ONE) * height_fog_sun_share(fog, origin, segment, od);
     let radiance = fog.color + phase(frame, fog, view_dir) * lit;
     crate::cpu::height_fog::fog_inscatter(radiance, od)
 }
