@@ -296,9 +296,13 @@ fn fog_image(
 fn raymarch_reference_matches_the_froxel_pipeline_in_homogeneous_fog() {
     let gpu = Gpu::shared();
     let (width, height) = (320, 180);
+    // The raymarch and this closed form light the fog as clear air would (no light
+    // transmittance through the medium), and a uniform fog without a top would let no
+    // sunlight through.
     let config = FogConfig {
         jitter: false,
         temporal: false,
+        light_transmittance: false,
         ..FogConfig::default()
     };
     let sigma_t = 0.04;
