@@ -24,7 +24,7 @@
 //! assert!(height_fog(&fog, eye + ridge, lamp - eye).w > seen.w);
 //!
 //! // The bytes of the WGSL uniform `volfog::types::HeightFog`, for a GPU buffer.
-//! assert_eq!(fog.to_bytes().len(), 64);
+//! assert_eq!(fog.to_bytes().len(), 80);
 //! // A value the shaders cannot handle is refused, naming the field.
 //! let err = HeightFog::new(Vec3::splat(0.6), -1.0, Vec3::Y, 0.05, 0.0).unwrap_err();
 //! assert_eq!(err.field, "HeightFog.density");
