@@ -288,6 +288,7 @@ fn extracted<'a>(
         noise_strength: fog.medium.noise_strength,
         noise_scale: fog.medium.noise_scale,
         wind: vec3(fog.medium.wind),
+        top_height: fog.medium.top_height,
         ..FogMedium::default()
     };
     medium.validate().map_err(|e| renamed(e, fog))?;
@@ -384,6 +385,7 @@ fn extracted<'a>(
         jitter: fog.temporal,
         temporal: fog.temporal,
         history_weight: fog.history_weight,
+        light_transmittance: fog.light_transmittance,
         // Bevy's point light cubes and spot light maps (in the directional light
         // texture), filtered into volfog's local-light atlas.
         local_shadows: local_shadow_config(
@@ -436,6 +438,7 @@ fn renamed(mut e: InvalidValue, fog: &FroxelFog) -> InvalidValue {
         "FogMedium.noise_strength" => "FroxelFog.medium.noise_strength",
         "FogMedium.noise_scale" => "FroxelFog.medium.noise_scale",
         "FogMedium.phase_g" => "FroxelFog.medium.phase_g",
+        "FogMedium.top_height" => "FroxelFog.medium.top_height",
         "LocalShadowConfig.spot_shadows" => "FroxelFog.spot_shadows",
         "LocalShadowConfig.point_shadows" => "FroxelFog.point_shadows",
         "LocalShadowConfig.exponent" => "FroxelFog.light_shadow_exponent",

@@ -38,6 +38,12 @@ pub struct FroxelFog {
     /// Continue the fog analytically beyond `far` (the medium's height fog, lit by
     /// the sun without shadows).
     pub tail: bool,
+    /// Attenuate the lights by the medium on their way to each point of the fog: the
+    /// sun through the height profile up to `medium.top_height`, point and spot
+    /// lights along the segment to the light
+    /// (`volfog::pipeline::FogConfig::light_transmittance`). Off, the fog is lit as if
+    /// the air between it and the lights were clear.
+    pub light_transmittance: bool,
     /// Scale of the sun's light in the fog (the surfaces see all of it), >= 0.
     pub sun_scattering: f32,
     /// Scale of the point and spot lights' light in the fog, >= 0.
@@ -77,6 +83,7 @@ impl Default for FroxelFog {
             temporal: true,
             history_weight: 0.9,
             tail: true,
+            light_transmittance: true,
             sun_scattering: 1.0,
             light_scattering: 1.0,
             ambient_scattering: 1.0,
@@ -109,6 +116,11 @@ pub struct FogMediumSettings {
     pub noise_scale: f32,
     /// Wind moving the noise (m/s, world space).
     pub wind: Vec3,
+    /// World height (m) where the medium ends: no fog above it, and the sun's light
+    /// enters the fog there. `volfog::limits::NO_TOP` (the default) for none; a
+    /// uniform medium (`height_falloff` 0) needs a top, or with `light_transmittance`
+    /// no sunlight reaches it. `|top_height| <= 1e9`.
+    pub top_height: f32,
 }
 
 impl Default for FogMediumSettings {
@@ -123,6 +135,7 @@ impl Default for FogMediumSettings {
             noise_strength: m.noise_strength,
             noise_scale: m.noise_scale,
             wind: Vec3::from_array(m.wind.to_array()),
+            top_height: m.top_height,
         }
     }
 }

@@ -151,6 +151,16 @@ fn out_of_range_settings_turn_the_fog_off_with_one_warning() {
         ),
         (
             FroxelFog {
+                medium: volfog_bevy::FogMediumSettings {
+                    top_height: f32::INFINITY,
+                    ..good.medium.clone()
+                },
+                ..good.clone()
+            },
+            "FroxelFog.medium.top_height",
+        ),
+        (
+            FroxelFog {
                 spot_shadows: 100,
                 ..good.clone()
             },

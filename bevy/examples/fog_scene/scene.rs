@@ -208,6 +208,7 @@ pub fn fog_settings(options: &SceneOptions) -> FroxelFog {
             } else {
                 Vec3::ZERO
             },
+            ..default()
         },
         temporal: options.temporal,
         sun_scattering: 0.6,

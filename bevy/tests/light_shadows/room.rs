@@ -225,7 +225,9 @@ impl Measure {
     }
 
     /// The fog outside the room's walls against the CPU mirror's unshadowed
-    /// in-scattering of the light at `position` among a frame's `lights`.
+    /// in-scattering of the light at `position` among a frame's `lights`, through the
+    /// medium between the froxel and the light when the fog attenuates it
+    /// (`FroxelFog::light_transmittance`).
     pub fn against_cpu(&self, texels: &[Vec4], lights: &[FogLight], position: Vec3) -> AgainstCpu {
         let light = lights
             .iter()
@@ -238,7 +240,17 @@ impl Measure {
             .zip(texels)
             .filter(|(p, _)| !(p.cmpgt(lo).all() && p.cmplt(hi).all()))
             .filter_map(|(p, t)| {
+                let through = if self.fog.config.light_transmittance {
+                    volfog::cpu::density::medium_segment_transmittance(
+                        &self.fog.medium,
+                        *p,
+                        light.position,
+                    )
+                } else {
+                    1.0
+                };
                 let cpu = self.sigma_s
+                    * through
                     * volfog::cpu::lights::fog_light_inscatter(light, *p, Vec3::Y, 0.0)
                         .max_element();
                 (cpu > LIT).then(|| t.truncate().max_element() / cpu)
