@@ -128,6 +128,11 @@ pub struct InjectOptions {
     /// fbm octaves (`VOLFOG_INJECT_NOISE_OCTAVES`), see
     /// [`limits::NOISE_OCTAVES`](crate::limits::NOISE_OCTAVES).
     pub noise_octaves: u32,
+    /// Temporal reprojection fused into injection (`VOLFOG_INJECT_TEMPORAL`): the pass
+    /// blends each froxel with its reprojected history and writes the stabilised
+    /// volume, so the temporal pass does not run
+    /// ([`InjectResources::temporal`](crate::pipeline::inject::InjectResources::temporal)).
+    pub temporal: bool,
 }
 
 impl Default for InjectOptions {
@@ -143,6 +148,7 @@ impl Default for InjectOptions {
             cloud_shadow: false,
             local_shadows: false,
             noise_octaves: manifest::INJECT_NOISE_OCTAVES.default,
+            temporal: false,
         }
     }
 }
@@ -174,6 +180,9 @@ impl InjectOptions {
         }
         if self.checkerboard {
             d.push("VOLFOG_INJECT_CHECKERBOARD".to_string());
+        }
+        if self.temporal {
+            d.push("VOLFOG_INJECT_TEMPORAL".to_string());
         }
         d.extend(cull_defines(self.depth_cull));
         if self.noise_octaves != manifest::INJECT_NOISE_OCTAVES.default {

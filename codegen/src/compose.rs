@@ -152,7 +152,7 @@ impl Defines {
 pub fn valid_defines(pass: &PassSource) -> Vec<String> {
     pass.axes
         .iter()
-        .flat_map(|a| a.defines().iter().map(|d| d.to_string()))
+        .flat_map(|a| a.defines().into_iter().map(|d| d.to_string()))
         .chain(
             pass.values
                 .iter()

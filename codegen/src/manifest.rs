@@ -26,23 +26,37 @@ pub enum Axis {
     /// Defines prebuilt together: the variant has none or all of them (each may still
     /// be set alone in a custom composition).
     Together(&'static [&'static str]),
+    /// Sets of defines, each prebuilt together: the variant has none of them or every
+    /// define of exactly one set (the sets may share defines; each define may still be
+    /// set alone in a custom composition).
+    Sets(&'static [&'static [&'static str]]),
 }
 
 impl Axis {
-    /// Every define this axis can set.
-    pub fn defines(&self) -> &[&'static str] {
+    /// Every define this axis can set, each once.
+    pub fn defines(&self) -> Vec<&'static str> {
         match self {
-            Axis::Flag(name) => core::slice::from_ref(name),
-            Axis::OneOf(names) | Axis::Together(names) => names,
+            Axis::Flag(name) => vec![*name],
+            Axis::OneOf(names) | Axis::Together(names) => names.to_vec(),
+            Axis::Sets(sets) => {
+                let mut all: Vec<&'static str> = Vec::new();
+                for name in sets.iter().flat_map(|s| s.iter()) {
+                    if !all.contains(name) {
+                        all.push(name);
+                    }
+                }
+                all
+            }
         }
     }
 
     /// The define sets this axis adds to a variant besides none: one per define, or,
-    /// for [`Axis::Together`], all of them at once.
+    /// for [`Axis::Together`], all of them at once, or, for [`Axis::Sets`], each set.
     pub fn choices(&self) -> Vec<Vec<&'static str>> {
         match self {
             Axis::Together(names) => vec![names.to_vec()],
-            _ => self.defines().iter().map(|d| vec![*d]).collect(),
+            Axis::Sets(sets) => sets.iter().map(|s| s.to_vec()).collect(),
+            _ => self.defines().into_iter().map(|d| vec![d]).collect(),
         }
     }
 }
@@ -230,6 +244,7 @@ pub const MODULES: &[ModuleSource] = &[
     module!("types"),
     module!("fullscreen"),
     module!("froxel"),
+    module!("temporal"),
     module!("noise"),
     module!("phase"),
     module!("height_fog"),
@@ -329,10 +344,18 @@ pub const PASSES: &[PassSource] = &[
             Axis::Flag("VOLFOG_INJECT_DENSITY_TEXTURE"),
             Axis::Flag("VOLFOG_INJECT_CLOUD_SHADOW"),
             Axis::Flag("VOLFOG_INJECT_LOCAL_SHADOWS"),
-            Axis::Together(&[
-                "VOLFOG_FROXEL_CULL",
-                "VOLFOG_INJECT_CHECKERBOARD",
-                "VOLFOG_INJECT_NOISE_TEXTURE",
+            Axis::Sets(&[
+                &[
+                    "VOLFOG_FROXEL_CULL",
+                    "VOLFOG_INJECT_CHECKERBOARD",
+                    "VOLFOG_INJECT_NOISE_TEXTURE",
+                ],
+                &[
+                    "VOLFOG_FROXEL_CULL",
+                    "VOLFOG_INJECT_CHECKERBOARD",
+                    "VOLFOG_INJECT_NOISE_TEXTURE",
+                    "VOLFOG_INJECT_TEMPORAL",
+                ],
             ]),
         ],
         values: &[INJECT_NOISE_OCTAVES],
@@ -346,7 +369,14 @@ pub const PASSES: &[PassSource] = &[
                 (froxel_cull), bound as uint, binding 14 the live blocks, and the dispatch \
                 is indirect from froxel_cull's arguments. VOLFOG_INJECT_CHECKERBOARD \
                 needs FogFrame.checkerboard = 1 (temporal reads it), and the other \
-                variants 0. Under VOLFOG_INJECT_LOCAL_SHADOWS binding 18 is the \
+                variants 0. Under VOLFOG_INJECT_TEMPORAL inject also does what the \
+                temporal pass does (which then does not run): binding 8 is the \
+                stabilised volume of this frame's parity, binding 22 the history (the \
+                other parity's volume), bound as filterable float, binding 23 its \
+                sampler, linear with clamp-to-edge addressing, bindings 24 and 25 the \
+                history's and the stabilised volume's HistoryState (as temporal's 6 \
+                and 7), and with VOLFOG_FROXEL_CULL binding 26 the live-slice texture \
+                the history was written with (uint). Under VOLFOG_INJECT_LOCAL_SHADOWS binding 18 is the \
                 local-light ESM atlas (r32float 2D array, after local_shadow_downsample \
                 and esm_blur), bound as unfilterable float; binding 19 the \
                 LightProjection buffer (96-byte stride, at least one element) that \

@@ -10,8 +10,9 @@
 // dispatch indirectly with the arguments froxel_cull_compact wrote, one workgroup per
 // listed block.
 // Output: rgb = sigma_s * L_in (radiance scattered towards the eye per metre),
-//         a = sigma_t (1/m), written to a write-only rgba16float 3D texture; froxels
-//         behind their column's live slices (depth culling) are not written.
+//         a = sigma_t (1/m), written to a write-only rgba16float 3D texture (under
+//         VOLFOG_INJECT_TEMPORAL blended with the history first); froxels behind
+//         their column's live slices (depth culling) are not written.
 // Bindings (group 0):
 //   0  uniform Froxels            1  uniform FogFrame         2  uniform FogMedium
 //   3  uniform FogLighting        4  uniform ShadowCascades
@@ -34,6 +35,13 @@
 //  20  texture_2d_array<f32>: the spot lights' cookies (filterable float)
 //  21  sampler, linear, clamp to edge: the cookies' (18-21 VOLFOG_INJECT_LOCAL_SHADOWS
 //      only)
+//  22  texture_3d<f32>: the history (last frame's stabilised volume), filterable
+//  23  sampler, linear, clamp to edge: the history's
+//  24  storage, read: HistoryState of the history (binding 22)
+//  25  storage, read_write: HistoryState of the stabilised volume (binding 8); invocation
+//      0 of block (0, 0, 0) writes this frame's camera into it
+//  26  texture_2d<u32>: live slices the history was written with (with
+//      VOLFOG_FROXEL_CULL; 22-26 VOLFOG_INJECT_TEMPORAL only)
 // Lights and local volumes are culled per workgroup: those whose range or extent touches
 // the block's bounding sphere are gathered in workgroup memory (at most 64 lights; when
 // more than 64 local volumes touch a block, every volume is evaluated), so distant ones
@@ -59,6 +67,16 @@
 //   VOLFOG_INJECT_CLOUD_SHADOW      the sun term also passes the cloud layer
 //                                   (volfog::clouds::cloud_shadow): the fog carries
 //                                   the clouds' moving shadows
+//   VOLFOG_INJECT_TEMPORAL          temporal reprojection fused into injection: each
+//                                   froxel's value is blended with its reprojected
+//                                   history (volfog::temporal, as the temporal pass
+//                                   does) and binding 8 receives the stabilised volume
+//                                   (next frame's history), so no scattering volume is
+//                                   written and read back; the temporal pass does not
+//                                   run. Ping-pong the volumes and their HistoryState
+//                                   buffers by frame parity as for the temporal pass.
+//                                   The blend takes the froxel's value before it is
+//                                   rounded to rgba16float.
 //   VOLFOG_INJECT_LOCAL_SHADOWS     point and spot lights with a projection
 //                                   (FogLight.projection) pass their shadow in the
 //                                   atlas and, for spot lights, their cookie
@@ -86,6 +104,13 @@
 #ifdef VOLFOG_INJECT_LOCAL_SHADOWS
 #import volfog::types::LightProjection
 #import volfog::local_shadow::{local_shadow_visibility, light_cookie}
+#endif
+#ifdef VOLFOG_INJECT_TEMPORAL
+#import volfog::types::HistoryState
+#import volfog::temporal::{temporal_history_uvw, temporal_blend}
+#ifdef VOLFOG_FROXEL_CULL
+#import volfog::temporal::temporal_history_live
+#endif
 #endif
 
 @group(0) @binding(0) var<uniform> froxels: Froxels;
@@ -119,6 +144,15 @@
 @group(0) @binding(19) var<storage, read> light_projections: array<LightProjection>;
 @group(0) @binding(20) var cookies: texture_2d_array<f32>;
 @group(0) @binding(21) var cookie_sampler: sampler;
+#endif
+#ifdef VOLFOG_INJECT_TEMPORAL
+@group(0) @binding(22) var history: texture_3d<f32>;
+@group(0) @binding(23) var history_sampler: sampler;
+@group(0) @binding(24) var<storage, read> history_state: HistoryState;
+@group(0) @binding(25) var<storage, read_write> stabilised_state: HistoryState;
+#ifdef VOLFOG_FROXEL_CULL
+@group(0) @binding(26) var history_live_slices: texture_2d<u32>;
+#endif
 #endif
 
 const NOISE_OCTAVES: u32 = #{VOLFOG_INJECT_NOISE_OCTAVES}u;
@@ -158,6 +192,24 @@ fn live(xy: vec2<u32>) -> u32 {
     return froxels.size.z;
 #endif
 }
+
+#ifdef VOLFOG_INJECT_TEMPORAL
+// The stabilised value of froxel id, whose value this frame is now (as the temporal
+// pass computes it).
+fn stabilise(id: vec3<u32>, now: vec4<f32>) -> vec4<f32> {
+    let at = temporal_history_uvw(id, froxels, frame.world_from_view, history_state, frame.history_enabled);
+    if at.w == 0.0 {
+        return now;
+    }
+#ifdef VOLFOG_FROXEL_CULL
+    if !temporal_history_live(at.xyz, froxels.size, history_live_slices) {
+        return now;
+    }
+#endif
+    let past = textureSampleLevel(history, history_sampler, at.xyz, 0.0);
+    return temporal_blend(now, past, froxel_injected(id, frame.index, frame.checkerboard), frame.history_weight);
+}
+#endif
 
 // Density and in-scattered light of froxel id (rgb = sigma_s L_in, a = sigma_t),
 // with the lights gathered for the workgroup.
@@ -297,6 +349,11 @@ fn inject(
 #endif
     }
     workgroupBarrier();
+#ifdef VOLFOG_INJECT_TEMPORAL
+    if all(block == vec3<u32>(0u)) && local_index == 0u {
+        stabilised_state = HistoryState(frame.clip_from_world, 1u);
+    }
+#endif
     let sphere = tile_sphere;
     let light_count = min(fog_lighting.light_count, arrayLength(&lights));
     for (var i = local_index; i < light_count; i += 4u * 4u * WORKGROUP_Z) {
@@ -342,15 +399,28 @@ fn inject(
         id = second;
     }
     let value = froxel_scattering(id, tile_light_count, tile_volume_count);
+#ifdef VOLFOG_INJECT_TEMPORAL
+    // Both froxels of the pair within the live slices, each with its own history (the
+    // one not injected takes the history alone, or this value where there is none).
+    textureStore(scattering, pair, stabilise(pair, value));
+    if second.z < min(live(pair.xy), froxels.size.z) {
+        textureStore(scattering, second, stabilise(second, value));
+    }
+#else
     textureStore(scattering, pair, value);
     if has_second {
         textureStore(scattering, second, value);
     }
+#endif
 #else
     let id = first + local;
     if any(id >= froxels.size) || id.z >= live(id.xy) {
         return;
     }
+#ifdef VOLFOG_INJECT_TEMPORAL
+    textureStore(scattering, id, stabilise(id, froxel_scattering(id, tile_light_count, tile_volume_count)));
+#else
     textureStore(scattering, id, froxel_scattering(id, tile_light_count, tile_volume_count));
+#endif
 #endif
 }

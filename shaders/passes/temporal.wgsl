@@ -40,10 +40,16 @@
 // frame's value. A stale texel thus weighs less than HISTORY_REACH per axis (a static
 // camera weighs neighbours by rounding error only) and only where the history is
 // kept.
+// The reprojection and the blend are volfog::temporal's; inject under
+// VOLFOG_INJECT_TEMPORAL runs the same blend fused, without this pass.
 // Defines: VOLFOG_FROXEL_CULL.
 
 #import volfog::types::{Froxels, FogFrame, HistoryState}
-#import volfog::froxel::{froxel_view_position, froxel_injected, froxel_block_unpack, slice_coord, uv_from_ndc, FROXEL_BLOCK_X, FROXEL_BLOCK_Y, FROXEL_BLOCK_Z}
+#import volfog::froxel::{froxel_injected, froxel_block_unpack, FROXEL_BLOCK_X, FROXEL_BLOCK_Y, FROXEL_BLOCK_Z}
+#import volfog::temporal::{temporal_history_uvw, temporal_blend}
+#ifdef VOLFOG_FROXEL_CULL
+#import volfog::temporal::temporal_history_live
+#endif
 
 @group(0) @binding(0) var<uniform> froxels: Froxels;
 @group(0) @binding(1) var<uniform> frame: FogFrame;
@@ -59,9 +65,6 @@
 @group(0) @binding(10) var<storage, read> live_blocks: array<u32>;
 #endif
 
-// Below this trilinear weight (per axis) a history texel is not required to be live.
-const HISTORY_REACH: f32 = 0.015625;
-
 // Live slices of column xy this frame (every slice without culling).
 fn live(xy: vec2<u32>) -> u32 {
 #ifdef VOLFOG_FROXEL_CULL
@@ -71,54 +74,19 @@ fn live(xy: vec2<u32>) -> u32 {
 #endif
 }
 
-// Whether every texel the trilinear look-up of the history at uvw weighs by
-// HISTORY_REACH or more was live when the history was written.
-fn history_live(uvw: vec3<f32>) -> bool {
+// The stabilised value of froxel id, whose value this frame is now.
+fn stabilise(id: vec3<u32>, now: vec4<f32>) -> vec4<f32> {
+    let at = temporal_history_uvw(id, froxels, frame.world_from_view, history_state, frame.history_enabled);
+    if at.w == 0.0 {
+        return now;
+    }
 #ifdef VOLFOG_FROXEL_CULL
-    let size = froxels.size;
-    let texel = uvw * vec3<f32>(size) - 0.5;
-    let base = floor(texel);
-    let f = texel - base;
-    let top = vec3<f32>(size - 1u);
-    let lo = vec3<u32>(clamp(base, vec3<f32>(0.0), top));
-    let hi = vec3<u32>(clamp(base + 1.0, vec3<f32>(0.0), top));
-    // The columns and the deepest slice that carry weight.
-    let x0 = select(hi.x, lo.x, 1.0 - f.x >= HISTORY_REACH);
-    let x1 = select(lo.x, hi.x, f.x >= HISTORY_REACH);
-    let y0 = select(hi.y, lo.y, 1.0 - f.y >= HISTORY_REACH);
-    let y1 = select(lo.y, hi.y, f.y >= HISTORY_REACH);
-    let deepest = select(lo.z, hi.z, f.z >= HISTORY_REACH);
-    let a = min(textureLoad(history_live_slices, vec2<u32>(x0, y0), 0).r,
-                textureLoad(history_live_slices, vec2<u32>(x1, y0), 0).r);
-    let b = min(textureLoad(history_live_slices, vec2<u32>(x0, y1), 0).r,
-                textureLoad(history_live_slices, vec2<u32>(x1, y1), 0).r);
-    return deepest < min(a, b);
-#else
-    return true;
+    if !temporal_history_live(at.xyz, froxels.size, history_live_slices) {
+        return now;
+    }
 #endif
-}
-
-// The stabilised value of froxel id.
-fn stabilise(id: vec3<u32>) -> vec4<f32> {
-    let now = textureLoad(current, id, 0);
-    let view = froxel_view_position(
-        id, vec3<f32>(0.0), froxels.size, froxels.view_from_clip, froxels.near, froxels.far, froxels.curve);
-    let world = frame.world_from_view * vec4<f32>(view, 1.0);
-    let clip = history_state.clip_from_world * world;
-    if frame.history_enabled == 0u || history_state.valid == 0u || clip.w <= 1e-6 {
-        return now;
-    }
-    let uv = uv_from_ndc(clip.xy / clip.w);
-    let w = slice_coord(clip.w, froxels.near, froxels.far, froxels.curve);
-    let uvw = vec3<f32>(uv, w);
-    if any(uvw < vec3<f32>(0.0)) || any(uvw > vec3<f32>(1.0)) || !history_live(uvw) {
-        return now;
-    }
-    let past = textureSampleLevel(history, history_sampler, uvw, 0.0);
-    if froxel_injected(id, frame.index, frame.checkerboard) {
-        return mix(now, past, clamp(frame.history_weight, 0.0, 1.0));
-    }
-    return past;
+    let past = textureSampleLevel(history, history_sampler, at.xyz, 0.0);
+    return temporal_blend(now, past, froxel_injected(id, frame.index, frame.checkerboard), frame.history_weight);
 }
 
 @compute @workgroup_size(4, 4, 4)
@@ -141,6 +109,6 @@ fn temporal(
     }
     let slices = min(live(pair.xy), froxels.size.z);
     for (var id = pair; id.z < min(pair.z + 2u, slices); id.z++) {
-        textureStore(stabilised, id, stabilise(id));
+        textureStore(stabilised, id, stabilise(id, textureLoad(current, id, 0)));
     }
 }

@@ -10,7 +10,7 @@ use super::inject::froxel_world_position;
 use crate::uniforms::{FogFrame, Froxels, HistoryState};
 
 /// Below this trilinear weight (per axis) a history texel is not required to be live
-/// (`HISTORY_REACH` of the temporal pass).
+/// (`TEMPORAL_HISTORY_REACH` of `volfog::temporal`).
 pub const HISTORY_REACH: f32 = 0.015625;
 
 /// Whether every texel the trilinear look-up of a volume at `uvw` weighs by
@@ -63,6 +63,17 @@ pub fn reproject(
     Some(history.sample(uvw))
 }
 
+/// This frame's value of a froxel with its reprojected history (WGSL
+/// `temporal_blend`): an injected froxel blends them with `history_weight` (clamped to
+/// [0, 1]); one the checkerboard skipped takes the history alone.
+pub fn blend_history(now: Vec4, past: Vec4, injected: bool, history_weight: f32) -> Vec4 {
+    if injected {
+        now.lerp(past, history_weight.clamp(0.0, 1.0))
+    } else {
+        past
+    }
+}
+
 /// The temporal pass for an injected froxel `id` without culling: `now` blended with
 /// `history` (the volume described by `previous`) when the froxel's centre reprojects
 /// inside it.
@@ -75,7 +86,7 @@ pub fn temporal_blend(
     history: &Volume,
 ) -> Vec4 {
     match reproject(froxels, frame, previous, id, history, None) {
-        Some(past) => now.lerp(past, frame.history_weight.clamp(0.0, 1.0)),
+        Some(past) => blend_history(now, past, true, frame.history_weight),
         None => now,
     }
 }
@@ -119,10 +130,12 @@ pub fn temporal_froxel(t: &TemporalInputs<'_>, id: UVec3) -> Option<Vec4> {
     );
     Some(match past {
         None => now,
-        Some(past) if froxel_injected(id, t.frame.index, t.frame.checkerboard) => {
-            now.lerp(past, t.frame.history_weight.clamp(0.0, 1.0))
-        }
-        Some(past) => past,
+        Some(past) => blend_history(
+            now,
+            past,
+            froxel_injected(id, t.frame.index, t.frame.checkerboard),
+            t.frame.history_weight,
+        ),
     })
 }
 

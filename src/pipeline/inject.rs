@@ -51,6 +51,23 @@ pub struct InjectResources<'a> {
     /// The local-light ESM atlas, the `LightProjection` buffer, the cookie array and
     /// its linear, clamp-to-edge sampler (required by the local-shadow variant).
     pub local_shadows: Option<LocalShadowResources<'a>>,
+    /// The history and the states of the fused-temporal variant (required by it,
+    /// ignored by the others); `scattering` is then the stabilised volume.
+    pub temporal: Option<InjectTemporalResources<'a>>,
+}
+
+/// The resources of the fused-temporal variant of the inject pass (bindings 22 to 26;
+/// the pass brings the history's linear, clamp-to-edge sampler, binding 23).
+#[derive(Debug, Clone, Copy)]
+pub struct InjectTemporalResources<'a> {
+    /// The history volume (last frame's stabilised volume).
+    pub history: &'a wgpu::TextureView,
+    /// The history's `HistoryState` (80-byte storage buffer).
+    pub history_state: &'a wgpu::Buffer,
+    /// The stabilised volume's `HistoryState`, written by the dispatch.
+    pub stabilised_state: &'a wgpu::Buffer,
+    /// The live slices the history was written with (required with depth culling).
+    pub history_live_slices: Option<&'a wgpu::TextureView>,
 }
 
 /// The resources of the local-shadow variant of the inject pass (bindings 18 to 21).
@@ -72,6 +89,8 @@ pub struct InjectPass {
     options: InjectOptions,
     layout: wgpu::BindGroupLayout,
     pipeline: wgpu::ComputePipeline,
+    /// The history's sampler of the fused-temporal variant.
+    history_sampler: Option<wgpu::Sampler>,
 }
 
 impl InjectPass {
@@ -131,6 +150,15 @@ impl InjectPass {
             ));
             entries.push(sampler_entry(21, c, true));
         }
+        if options.temporal {
+            entries.push(texture_entry(22, c, wgpu::TextureViewDimension::D3, true));
+            entries.push(sampler_entry(23, c, true));
+            entries.push(storage_buffer_entry(24, c, true));
+            entries.push(storage_buffer_entry(25, c, false));
+            if options.depth_cull {
+                entries.push(uint_texture_entry(26));
+            }
+        }
         entries
     }
 
@@ -143,6 +171,7 @@ impl InjectPass {
             options,
             layout,
             pipeline,
+            history_sampler: options.temporal.then(|| super::apply::fog_sampler(device)),
         })
     }
 
@@ -217,6 +246,27 @@ impl InjectPass {
             resources.push((19, l.projections.as_entire_binding()));
             resources.push((20, wgpu::BindingResource::TextureView(l.cookies)));
             resources.push((21, wgpu::BindingResource::Sampler(l.cookie_sampler)));
+        }
+        if let Some(sampler) = &self.history_sampler {
+            let t = r.temporal.ok_or_else(|| {
+                missing(
+                    "InjectResources.temporal",
+                    "the history, its state and the stabilised volume's state",
+                )
+            })?;
+            resources.push((22, wgpu::BindingResource::TextureView(t.history)));
+            resources.push((23, wgpu::BindingResource::Sampler(sampler)));
+            resources.push((24, t.history_state.as_entire_binding()));
+            resources.push((25, t.stabilised_state.as_entire_binding()));
+            if self.options.depth_cull {
+                let live = t.history_live_slices.ok_or_else(|| {
+                    missing(
+                        "InjectTemporalResources.history_live_slices",
+                        "the live slices the history was written with",
+                    )
+                })?;
+                resources.push((26, wgpu::BindingResource::TextureView(live)));
+            }
         }
         Ok(bind_group(
             device,

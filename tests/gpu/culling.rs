@@ -20,12 +20,12 @@ use volfog_testkit::Gpu;
 use volfog_testkit::gpu::texture_2d;
 
 /// Screen of the culling tests: not a multiple of the 32 x 18 froxel grid.
-const SCREEN: (u32, u32) = (203, 117);
+pub(crate) const SCREEN: (u32, u32) = (203, 117);
 
 /// Depth-buffer values of a ground plane (y = 0) with a pillar 6 m ahead and a wall
 /// 14 m ahead on the left half, seen by `view` through `projection` (sky: the value
 /// of the far plane, 1 for standard depth).
-fn scene_depth(view: Mat4, projection: Mat4) -> Vec<f32> {
+pub(crate) fn scene_depth(view: Mat4, projection: Mat4) -> Vec<f32> {
     let (w, h) = SCREEN;
     let view_from_clip = projection.inverse();
     let world_from_view = view.inverse();
@@ -226,7 +226,7 @@ fn live_slices_match_cpu_and_cover_every_apply_lookup() {
 
 /// The scene of the pipeline comparisons: the test medium, lights and volumes, a low
 /// sun shadowed by the slab.
-fn pipeline_inputs<'a>(
+pub(crate) fn pipeline_inputs<'a>(
     view: Mat4,
     lights: &'a [FogLight],
     volumes: &'a [volfog::uniforms::LocalVolume],
@@ -247,7 +247,7 @@ fn pipeline_inputs<'a>(
 }
 
 /// Runs one frame of each fog.
-fn frame(gpu: &Gpu, fogs: [&mut VolumetricFog; 2], inputs: &FrameInputs<'_>) {
+pub(crate) fn frame(gpu: &Gpu, fogs: [&mut VolumetricFog; 2], inputs: &FrameInputs<'_>) {
     let mut encoder = gpu.device.create_command_encoder(&Default::default());
     for fog in fogs {
         fog.prepare(&gpu.queue, inputs).unwrap();
@@ -257,7 +257,7 @@ fn frame(gpu: &Gpu, fogs: [&mut VolumetricFog; 2], inputs: &FrameInputs<'_>) {
 }
 
 /// The integrated volume of a fog (temporal or not).
-fn integrated(gpu: &Gpu, fog: &VolumetricFog) -> Vec<Vec4> {
+pub(crate) fn integrated(gpu: &Gpu, fog: &VolumetricFog) -> Vec<Vec4> {
     let texture = if fog.config().temporal {
         fog.scattering_texture()
     } else {
@@ -379,8 +379,10 @@ fn culled_fog_equals_unculled_fog_wherever_it_is_read() {
 #[test]
 fn disoccluded_froxels_never_take_stale_history() {
     let gpu = gpu();
+    // The separate temporal pass, whose input (the scattering volume) is read.
     let config = FogConfig {
         temporal: true,
+        fuse_temporal: false,
         jitter: false,
         depth_cull: true,
         ..small_config()
@@ -512,8 +514,10 @@ fn disoccluded_froxels_never_take_stale_history() {
 #[test]
 fn checkerboard_inject_writes_this_frames_live_froxels_only() {
     let gpu = gpu();
+    // The separate temporal pass: inject writes the scattering volume read here.
     let config = FogConfig {
         temporal: true,
+        fuse_temporal: false,
         amortize: true,
         depth_cull: true,
         noise_texture: true,

@@ -12,6 +12,7 @@ mod far_plane_seam;
 mod fog_volume;
 mod forward_snippet;
 mod frustum;
+mod fused_temporal;
 mod height_fog;
 mod height_fog_lit;
 mod hull;

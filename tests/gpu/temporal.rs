@@ -340,6 +340,8 @@ fn reprojection_through_prepare_follows_the_moving_camera() {
     let config = FogConfig {
         jitter: true,
         temporal: true,
+        // The separate pass: its input, the scattering volume, is read.
+        fuse_temporal: false,
         ..small_config()
     };
     let lights = [FogLight::point(
@@ -416,6 +418,8 @@ fn unsubmitted_frames_never_reproject_with_the_wrong_camera() {
     let config = FogConfig {
         jitter: false,
         temporal: true,
+        // The separate pass: its input, the scattering volume, is read.
+        fuse_temporal: false,
         ..small_config()
     };
     let lights = [FogLight::point(

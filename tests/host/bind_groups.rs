@@ -222,6 +222,7 @@ fn runtime_layouts_match_the_shaders() {
             checkerboard: v.defines.contains(&"VOLFOG_INJECT_CHECKERBOARD"),
             cloud_shadow: v.defines.contains(&"VOLFOG_INJECT_CLOUD_SHADOW"),
             local_shadows: v.defines.contains(&"VOLFOG_INJECT_LOCAL_SHADOWS"),
+            temporal: v.defines.contains(&"VOLFOG_INJECT_TEMPORAL"),
             ..InjectOptions::default()
         };
         checked += check(

@@ -254,7 +254,10 @@ fn pass_constants_and_workgroups_match_the_runtime() {
         Some(cpu::inject::HALF_MAX as f64)
     );
     assert_eq!(
-        constant(&pass("temporal", &["VOLFOG_FROXEL_CULL"]), "HISTORY_REACH"),
+        constant(
+            &pass("temporal", &["VOLFOG_FROXEL_CULL"]),
+            "TEMPORAL_HISTORY_REACH"
+        ),
         Some(cpu::temporal::HISTORY_REACH as f64)
     );
     let blur = pass("esm_blur", &[]);

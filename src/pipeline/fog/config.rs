@@ -41,6 +41,13 @@ pub struct FogConfig {
     pub temporal: bool,
     /// Weight of the history, [0, 1).
     pub history_weight: f32,
+    /// With `temporal`, blend with the history inside the inject pass
+    /// (`VOLFOG_INJECT_TEMPORAL`, on by default): inject writes the stabilised volume
+    /// directly, so no scattering volume is written and read back and the temporal
+    /// pass does not run. Off runs the separate temporal pass; the two agree within
+    /// rgba16float rounding (the fused blend takes the froxel's value before it is
+    /// rounded). Ignored without `temporal`.
+    pub fuse_temporal: bool,
     /// Scan step.
     pub scan_step: ScanStep,
     /// AC4 two-colour sun phase instead of Henyey-Greenstein.
@@ -146,6 +153,7 @@ impl Default for FogConfig {
             jitter: inject.jitter,
             temporal: true,
             history_weight: 0.9,
+            fuse_temporal: true,
             scan_step: ScanStep::EnergyConserving,
             two_color_phase: inject.two_color_phase,
             noise_octaves: inject.noise_octaves,
@@ -214,7 +222,14 @@ impl FogConfig {
             cloud_shadow: self.cloud_shadow,
             local_shadows: self.local_shadows.is_some(),
             noise_octaves: self.noise_octaves,
+            temporal: self.fused_temporal(),
         }
+    }
+
+    /// Whether temporal reprojection runs inside inject (`temporal` and
+    /// `fuse_temporal`).
+    pub fn fused_temporal(&self) -> bool {
+        self.temporal && self.fuse_temporal
     }
 
     /// The options of the ESM variants.

@@ -103,7 +103,7 @@ impl VolumetricFog {
 
     /// Records one pass of [`VolumetricFog::encode`], e.g. to submit and time each
     /// pass on its own. Passes that do not run in this configuration or frame (ESM
-    /// without cascades, temporal when disabled) record nothing.
+    /// without cascades, temporal when disabled or fused into inject) record nothing.
     pub fn encode_pass(
         &self,
         encoder: &mut wgpu::CommandEncoder,
@@ -131,7 +131,7 @@ impl VolumetricFog {
         let shadow = self.shadow_map.as_ref().filter(|_| self.shadows_enabled);
         let runs = match pass {
             FogPass::EsmDownsample | FogPass::EsmBlur => shadow.is_some(),
-            FogPass::Temporal => self.temporal.is_some(),
+            FogPass::Temporal => self.temporal.as_ref().is_some_and(|t| t.pass.is_some()),
             FogPass::Inject | FogPass::Scan => true,
             FogPass::Cull => cull.is_some(),
             FogPass::LocalShadows => self.local_shadows.as_ref().is_some_and(|l| l.runs()),
@@ -171,9 +171,12 @@ impl VolumetricFog {
                 pass.encode(&mut compute, &groups[parity], size, indirect)
             }
             FogPass::Temporal => {
-                let t = self.temporal.as_ref().expect("checked above");
-                t.pass
-                    .encode(&mut compute, &t.groups[parity], size, indirect);
+                let (pass, groups) = self
+                    .temporal
+                    .as_ref()
+                    .and_then(|t| t.pass.as_ref())
+                    .expect("checked above");
+                pass.encode(&mut compute, &groups[parity], size, indirect);
             }
             FogPass::Scan => {
                 self.scan

@@ -6,31 +6,34 @@ use super::local_shadows::LocalShadows;
 use super::textures::{CloudShadow, Culling, Density, Noise, Temporal};
 use super::{FogError, VolumetricFog, array_view, view};
 use crate::pipeline::esm::EsmPasses;
-use crate::pipeline::inject::{InjectPass, InjectResources};
+use crate::pipeline::inject::{InjectPass, InjectResources, InjectTemporalResources};
 use crate::pipeline::scan::ScanPass;
 use crate::pipeline::temporal::{TemporalPass, TemporalResources};
 
 impl VolumetricFog {
     pub(super) fn rebuild_inject_groups(&mut self, device: &wgpu::Device) {
-        let live = |p: usize| {
-            self.culling
-                .as_ref()
-                .map(|c| (&c.views[p], &c.blocks.blocks))
-        };
+        let scattering = view(&self.scattering);
+        let fused = self
+            .temporal
+            .as_ref()
+            .filter(|_| self.config.fused_temporal());
         let groups = |inject: &InjectPass| {
             [0, 1].map(|p| {
+                let (output, temporal) =
+                    inject_output(&scattering, fused, self.culling.as_ref(), p);
                 inject_bind_group(
                     device,
                     inject,
                     &self.buffers,
                     &array_view(&self.esm_texture),
-                    &view(&self.scattering),
+                    output,
                     InjectTextures {
                         density: self.density.as_ref(),
-                        culling: live(p),
+                        culling: inject_culling(self.culling.as_ref(), p),
                         noise: self.noise.as_ref(),
                         clouds: self.clouds.as_ref(),
                         local_shadows: self.local_shadows.as_ref(),
+                        temporal,
                     },
                 )
             })
@@ -55,19 +58,49 @@ impl VolumetricFog {
     }
 }
 
+/// The live slices and live blocks inject reads at parity `p` with depth culling.
+pub(super) fn inject_culling(
+    culling: Option<&Culling>,
+    p: usize,
+) -> Option<(&wgpu::TextureView, &wgpu::Buffer)> {
+    culling.map(|c| (&c.views[p], &c.blocks.blocks))
+}
+
+/// What inject writes at frame parity `p`: the scattering volume, or, with the
+/// temporal blend fused into it (`fused`), stabilised volume p with the history
+/// (volume and state 1 - p) it blends.
+pub(super) fn inject_output<'a>(
+    scattering: &'a wgpu::TextureView,
+    fused: Option<&'a Temporal>,
+    culling: Option<&'a Culling>,
+    p: usize,
+) -> (&'a wgpu::TextureView, Option<InjectTemporalResources<'a>>) {
+    match fused {
+        None => (scattering, None),
+        Some(t) => (
+            &t.views[p],
+            Some(InjectTemporalResources {
+                history: &t.views[1 - p],
+                history_state: &t.states[1 - p],
+                stabilised_state: &t.states[p],
+                history_live_slices: culling.map(|c| &c.views[1 - p]),
+            }),
+        ),
+    }
+}
+
 /// The temporal bind groups of both parities.
 pub(super) fn temporal_groups(
     device: &wgpu::Device,
     pass: &TemporalPass,
     buffers: &Buffers,
     scattering_view: &wgpu::TextureView,
-    volumes: &[wgpu::Texture; 2],
+    views: &[wgpu::TextureView; 2],
     states: &[wgpu::Buffer; 2],
     culling: Option<&Culling>,
 ) -> [wgpu::BindGroup; 2] {
     let live_view = |p: usize| culling.map(|c| &c.views[p]);
     let live_blocks = culling.map(|c| &c.blocks.blocks);
-    let views = [view(&volumes[0]), view(&volumes[1])];
     // Frame parity p reads history 1 - p and writes history p.
     [0, 1].map(|p| {
         pass.bind_group(
@@ -105,7 +138,7 @@ pub(super) fn scan_groups(
     // slices p.
     [0, 1].map(|p| {
         let (input, output) = match (temporal, integrated) {
-            (Some(t), _) => (view(&t.volumes[p]), scattering_view.clone()),
+            (Some(t), _) => (t.views[p].clone(), scattering_view.clone()),
             (None, Some(out)) => (scattering_view.clone(), view(out)),
             (None, None) => unreachable!("the integrated volume exists without temporal"),
         };
@@ -134,6 +167,7 @@ pub(super) struct InjectTextures<'a> {
     pub(super) noise: Option<&'a Noise>,
     pub(super) clouds: Option<&'a CloudShadow>,
     pub(super) local_shadows: Option<&'a LocalShadows>,
+    pub(super) temporal: Option<InjectTemporalResources<'a>>,
 }
 
 pub(super) fn inject_bind_group(
@@ -150,6 +184,7 @@ pub(super) fn inject_bind_group(
         noise,
         clouds,
         local_shadows,
+        temporal,
     } = textures;
     let local_views = local_shadows.map(LocalShadows::views);
     let density_view = density.map(|d| view(&d.texture));
@@ -177,6 +212,7 @@ pub(super) fn inject_bind_group(
                 local_shadows: local_shadows
                     .zip(local_views.as_ref())
                     .map(|(l, v)| l.resources(v)),
+                temporal,
             },
         )
         .expect("the fog binds every texture its inject variant reads")

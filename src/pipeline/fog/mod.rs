@@ -70,7 +70,10 @@ use super::temporal::TemporalPass;
 use super::timestamps::TimestampPairs;
 use crate::uniforms::{self, CloudLayer, HistoryState};
 use buffers::Buffers;
-use groups::{InjectTextures, blur_groups, inject_bind_group, scan_groups, temporal_groups};
+use groups::{
+    InjectTextures, blur_groups, inject_bind_group, inject_culling, inject_output, scan_groups,
+    temporal_groups,
+};
 use local_shadows::LocalShadows;
 pub(crate) use resources::{
     array_view, check_cloud_map, check_density_texture, check_scene_depth, check_shadow_map,
@@ -164,13 +167,10 @@ impl VolumetricFog {
         } else {
             None
         };
-        let live_view = |p: usize| culling.as_ref().map(|c| &c.views[p]);
-        let live_blocks = culling.as_ref().map(|c| &c.blocks.blocks);
 
         let scattering = volume_texture(device, "volfog scattering", size);
         let scattering_view = view(&scattering);
         let temporal = if config.temporal {
-            let pass = TemporalPass::new(device, config.depth_cull)?;
             let volumes =
                 [0, 1].map(|i| volume_texture(device, &format!("volfog history {i}"), size));
             let state_bytes = uniforms::to_storage_bytes(&[HistoryState::default()]).len();
@@ -183,20 +183,28 @@ impl VolumetricFog {
                     mapped_at_creation: false,
                 })
             });
-            let groups = temporal_groups(
-                device,
-                &pass,
-                &buffers,
-                &scattering_view,
-                &volumes,
-                &states,
-                culling.as_ref(),
-            );
+            let views = [view(&volumes[0]), view(&volumes[1])];
+            // The separate pass unless inject does the blend.
+            let pass = if config.fused_temporal() {
+                None
+            } else {
+                let pass = TemporalPass::new(device, config.depth_cull)?;
+                let groups = temporal_groups(
+                    device,
+                    &pass,
+                    &buffers,
+                    &scattering_view,
+                    &views,
+                    &states,
+                    culling.as_ref(),
+                );
+                Some((pass, groups))
+            };
             Some(Temporal {
-                pass,
                 volumes,
+                views,
                 states,
-                groups,
+                pass,
             })
         } else {
             None
@@ -247,19 +255,22 @@ impl VolumetricFog {
             sampler: crate::pipeline::clouds::cloud_map_sampler(device),
         });
         let local_shadows = LocalShadows::new(device, config)?;
+        let fused = temporal.as_ref().filter(|_| config.fused_temporal());
         let inject_groups = [0, 1].map(|p| {
+            let (output, temporal) = inject_output(&scattering_view, fused, culling.as_ref(), p);
             inject_bind_group(
                 device,
                 &inject,
                 &buffers,
                 &esm_view,
-                &scattering_view,
+                output,
                 InjectTextures {
                     density: density.as_ref(),
-                    culling: live_view(p).zip(live_blocks),
+                    culling: inject_culling(culling.as_ref(), p),
                     noise: noise.as_ref(),
                     clouds: clouds.as_ref(),
                     local_shadows: local_shadows.as_ref(),
+                    temporal,
                 },
             )
         });

@@ -8,14 +8,15 @@ use crate::pipeline::noise::NoiseBake;
 use crate::pipeline::temporal::TemporalPass;
 use crate::pipeline::timestamps::TimestampPairs;
 
-/// Temporal reprojection: its pass, the two history volumes with their states, and
-/// the bind groups of both parities.
+/// Temporal reprojection: the two history volumes with their views and states, and
+/// the separate pass with its bind groups of both parities (`None` when inject does
+/// the blend, `FogConfig::fused_temporal`).
 #[derive(Debug)]
 pub(super) struct Temporal {
-    pub(super) pass: TemporalPass,
     pub(super) volumes: [wgpu::Texture; 2],
+    pub(super) views: [wgpu::TextureView; 2],
     pub(super) states: [wgpu::Buffer; 2],
-    pub(super) groups: [wgpu::BindGroup; 2],
+    pub(super) pass: Option<(TemporalPass, [wgpu::BindGroup; 2])>,
 }
 
 /// The density multiplier texture of the density-texture variant.
@@ -88,7 +89,9 @@ impl VolumetricFog {
     }
 
     /// The scattering volume written by inject (before temporal and scan; with
-    /// temporal reprojection the scan overwrites it with the integrated volume).
+    /// temporal reprojection the scan overwrites it with the integrated volume). With
+    /// the temporal blend fused into inject ([`FogConfig::fused_temporal`]) inject
+    /// writes the stabilised volume instead, and this holds only the integrated one.
     pub fn scattering_texture(&self) -> &wgpu::Texture {
         &self.scattering
     }
