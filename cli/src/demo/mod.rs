@@ -7,8 +7,8 @@
 //! phase per pixel) -> the clouds' shadow on the lit scene and the distance clouds
 //! (`volfog::clouds`) -> fog prepare/encode (its sun term under the same cloud shadow,
 //! the lamp a shadowed light) (froxel culling by this frame's depth buffer, ESM
-//! downsample, blur, the local-light atlas from the lamp's cube, inject, temporal,
-//! scan) -> fullscreen fog apply -> semi-transparent sphere fogged by the forward
+//! downsample, blur, the local-light atlas from the lamp's cube, inject with the
+//! temporal blend fused into it, scan) -> fullscreen fog apply -> semi-transparent sphere fogged by the forward
 //! snippet -> tonemap. The camera moves along a short path so the temporal
 //! reprojection works on a moving view; the last frame is written as `DIR/demo.png`. The pool's water
 //! (`volfog::water`) is shaded in the opaque pass; then a second camera under water
