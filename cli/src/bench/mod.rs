@@ -31,6 +31,7 @@
 //! reported by its median over the measured frames with min, max, p10 and p90, printed
 //! as a table and written as JSON. The targets are printed, never asserted.
 
+pub mod cost;
 mod local_lights;
 mod passes;
 pub mod raymarch;
@@ -118,6 +119,10 @@ pub struct BenchArgs {
     /// Where to write the JSON report.
     #[arg(long, default_value = "bench.json")]
     out: PathBuf,
+    /// Print the JSON report to stdout; the table and the progress lines go to stderr
+    /// (the report is still written to --out).
+    #[arg(long)]
+    json: bool,
     /// A short run (1 warm-up + 2 measured frames, 1 with the raymarch, unless given).
     #[arg(long)]
     quick: bool,
@@ -271,14 +276,22 @@ fn run(args: &BenchArgs) -> Result<(), BenchError> {
         }
         ClockArg::Auto => Clock::GpuTimestamps,
     };
-    println!("volfog bench on {}", gpu.describe());
-    println!("clock: {}", clock.describe());
+    // With --json, stdout carries the report alone.
+    let say = |line: String| {
+        if args.json {
+            eprintln!("{line}");
+        } else {
+            println!("{line}");
+        }
+    };
+    say(format!("volfog bench on {}", gpu.describe()));
+    say(format!("clock: {}", clock.describe()));
 
     // Memory at the default configuration (no timestamps), before anything else.
     let memory_bytes = VolumetricFog::new(&gpu.device, &FogConfig::default())?.memory_bytes();
     let mut work = Workloads::new(&gpu)?;
     let size = work.config.volume_size;
-    println!(
+    say(format!(
         "froxels {}x{}x{} rgba16float; apply, blit and raymarch ({RAYMARCH_STEPS} steps/pixel) at {}x{}; \
          {} warm-up + {} measured frames (setup {:.1} s)",
         size.x,
@@ -289,7 +302,7 @@ fn run(args: &BenchArgs) -> Result<(), BenchError> {
         plan.warmup,
         plan.frames,
         start.elapsed().as_secs_f64()
-    );
+    ));
     let mut samples: std::collections::BTreeMap<&str, Vec<Sample>> =
         SERIES.iter().map(|(k, _)| (*k, Vec::new())).collect();
     let pick = |s: Sample| match clock {
@@ -338,13 +351,18 @@ fn run(args: &BenchArgs) -> Result<(), BenchError> {
             local_lights: work.local_lights.setup,
         },
         start,
-    );
-    print!("{}", table(&report));
-    let json = serde_json::to_string_pretty(&report).expect("the report serializes");
-    std::fs::write(&args.out, json + "\n").map_err(|source| BenchError::Io {
+    )?;
+    let json = serde_json::to_string_pretty(&report).expect("the report serializes") + "\n";
+    if args.json {
+        eprint!("{}", table(&report));
+        print!("{json}");
+    } else {
+        print!("{}", table(&report));
+    }
+    std::fs::write(&args.out, &json).map_err(|source| BenchError::Io {
         path: args.out.clone(),
         source,
     })?;
-    println!("wrote {}", args.out.display());
+    say(format!("wrote {}", args.out.display()));
     Ok(())
 }

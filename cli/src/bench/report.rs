@@ -92,14 +92,67 @@ pub struct Ratios {
     pub apply_vs_blit: Ratio,
     /// Raymarch / froxel pipeline at 1080p (how many times faster the froxels are).
     pub raymarch_vs_froxel: Ratio,
-    /// Froxel pipeline behind a 4K camera / behind a 720p camera.
+    /// Froxel pipeline behind a 4K camera / behind a 720p camera: the median of the
+    /// per-frame ratios (`froxel_4k_vs_720p_frames`).
     pub froxel_4k_vs_720p: Ratio,
+    /// The same frame by frame.
+    pub froxel_4k_vs_720p_frames: PairedRatio,
     /// Inject (baseline) / a plain write of the same volume.
     pub inject_vs_write: Ratio,
-    /// Inject with culling, checkerboard and noise texture / a plain write.
+    /// Inject with culling, checkerboard and noise texture, the temporal blend fused
+    /// into it / a plain write.
     pub inject_fast_vs_write: Ratio,
     /// Raymarch / the fast froxel pipeline at 1080p.
     pub raymarch_vs_froxel_fast: Ratio,
+}
+
+/// A ratio measured frame by frame (the two sides run back to back in each frame, in
+/// alternating order), so one noisy frame does not decide it.
+#[derive(Debug, Clone, Serialize)]
+pub struct PairedRatio {
+    /// What is divided by what, per frame.
+    pub definition: &'static str,
+    /// The ratio of each measured frame, in frame order.
+    pub samples: Vec<f64>,
+    /// Their median.
+    pub median: f64,
+    /// The smallest.
+    pub min: f64,
+    /// The largest.
+    pub max: f64,
+}
+
+impl PairedRatio {
+    fn new(definition: &'static str, numerator: &[f64], denominator: &[f64]) -> Self {
+        let samples: Vec<f64> = numerator
+            .iter()
+            .zip(denominator)
+            .map(|(a, b)| a / b)
+            .collect();
+        let stats = Stats::new(definition, &samples);
+        Self {
+            definition,
+            samples,
+            median: stats.median_ms,
+            min: stats.min_ms,
+            max: stats.max_ms,
+        }
+    }
+}
+
+/// The cheap path with the temporal blend fused into inject against the same path
+/// with the temporal pass apart, in the same run.
+#[derive(Debug, Clone, Serialize)]
+pub struct FusedTemporal {
+    /// Median fused inject, ms.
+    pub fused_inject_ms: f64,
+    /// Median inject + median temporal with the pass apart, ms.
+    pub separate_inject_temporal_ms: f64,
+    /// The first over the second.
+    pub fused_vs_separate: f64,
+    /// Median (cull + inject + scan + apply), fused / the same with the temporal pass
+    /// apart.
+    pub froxel_fast_fused_vs_separate: f64,
 }
 
 /// The sky and cloud passes against a fullscreen blit at 1080p (no targets: their
@@ -265,9 +318,13 @@ pub struct Report {
     pub shafts: ShaftCost,
     /// Shadowed point and spot lights.
     pub local_shadows: LocalShadowCost,
+    /// The temporal blend fused into inject against the temporal pass apart.
+    pub fused_temporal: FusedTemporal,
     /// Median inject with `FogConfig::light_transmittance` (the default) / without:
     /// what attenuating the sun and the scene's lights through the medium costs.
     pub transmittance_inject_vs_without: f64,
+    /// Each main pass against its memory floor at two bandwidths.
+    pub cost: super::cost::CostModel,
     /// Wall-clock time of the whole run, seconds.
     pub wall_seconds: f64,
 }
@@ -293,7 +350,7 @@ pub(super) fn summarize(
     samples: &std::collections::BTreeMap<&str, Vec<Sample>>,
     extra: Extra,
     start: Instant,
-) -> Report {
+) -> Result<Report, BenchError> {
     let Extra {
         memory_bytes,
         live_fraction,
@@ -322,6 +379,11 @@ pub(super) fn summarize(
         })
         .collect();
     let median = |k: &str| passes[k].median_ms;
+    let screens = PairedRatio::new(
+        "(inject + temporal + scan) behind a 3840x2160 / a 1280x720 camera, per frame",
+        &series("froxel_4k", clock),
+        &series("froxel_720p", clock),
+    );
     let ratios = Ratios {
         scan_vs_copy: Ratio::at_most(
             "median scan / median copy",
@@ -339,22 +401,24 @@ pub(super) fn summarize(
             TARGET_SPEEDUP,
         ),
         froxel_4k_vs_720p: Ratio::at_most(
-            "median (inject + temporal + scan) behind a 3840x2160 / a 1280x720 camera",
-            median("froxel_4k") / median("froxel_720p"),
+            "median over the frames of (inject + temporal + scan) behind a 3840x2160 / a \
+             1280x720 camera",
+            screens.median,
             TARGET_SCREEN,
         ),
+        froxel_4k_vs_720p_frames: screens,
         inject_vs_write: Ratio::at_most(
             "median inject (baseline) / median plain write of the volume",
             median("inject") / median("write"),
             TARGET_INJECT,
         ),
         inject_fast_vs_write: Ratio::at_most(
-            "median inject (culled, checkerboard, noise texture) / median plain write",
+            "median inject (culled, checkerboard, noise texture, temporal fused) / median plain write",
             median("inject_fast") / median("write"),
             TARGET_INJECT,
         ),
         raymarch_vs_froxel_fast: Ratio::at_least(
-            "median raymarch / median fast (cull + inject + temporal + scan + apply), 1080p",
+            "median raymarch / median fast (cull + fused inject + scan + apply), 1080p",
             median("raymarch_1080p") / median("froxel_fast_1080p"),
             TARGET_FAST_SPEEDUP,
         ),
@@ -418,8 +482,21 @@ pub(super) fn summarize(
         light_through_shadows: local.light_through_shadows,
     };
     let transmittance_inject_vs_without = median("inject") / median("inject_no_transmittance");
+    let separate = median("inject_fast_separate") + median("temporal_fast");
+    let fused_temporal = FusedTemporal {
+        fused_inject_ms: median("inject_fast"),
+        separate_inject_temporal_ms: separate,
+        fused_vs_separate: median("inject_fast") / separate,
+        froxel_fast_fused_vs_separate: median("froxel_fast_1080p")
+            / median("froxel_fast_separate_1080p"),
+    };
+    let cost = super::cost::model(
+        config,
+        &super::cost::Sizes::new(config, live_fraction),
+        &median,
+    )?;
     let mib = to_mib(memory_bytes);
-    Report {
+    Ok(Report {
         adapter: gpu.info.name.clone(),
         adapter_details: gpu.describe(),
         clock,
@@ -442,6 +519,7 @@ pub(super) fn summarize(
         atmosphere,
         shafts,
         local_shadows,
+        fused_temporal,
         transmittance_inject_vs_without,
         memory: Memory {
             bytes: memory_bytes,
@@ -449,8 +527,9 @@ pub(super) fn summarize(
             limit_mib: TARGET_MEMORY_MIB,
             met: mib <= TARGET_MEMORY_MIB,
         },
+        cost,
         wall_seconds: start.elapsed().as_secs_f64(),
-    }
+    })
 }
 
 fn to_mib(bytes: u64) -> f64 {
@@ -485,6 +564,11 @@ pub fn table(report: &Report) -> String {
         "  * inject + temporal + scan + apply (ESM passes excluded: the raymarch uses the same ESM)"
     );
     let _ = writeln!(out, "  ** inject + temporal + scan, apply excluded");
+    let _ = writeln!(
+        out,
+        "  the baseline and the rows with one of + run the temporal pass apart; \"all three\" \
+         fuses it into inject (FogConfig::default), \"apart\" runs the same path with it apart"
+    );
     let _ = writeln!(
         out,
         "  *** coords + refine + trees + march + interpolate + resolve + upscale, 512 slices x 256 samples, downscale 2"
@@ -596,6 +680,26 @@ pub fn table(report: &Report) -> String {
         "EpipolarShafts::memory_bytes",
         to_mib(i.memory_bytes)
     );
+    let fused = &report.fused_temporal;
+    let _ = writeln!(
+        out,
+        "{:<36} {:>9.3}x  ({:.3} ms against {:.3} ms inject + temporal; the whole cheap path {:.3}x)",
+        "fused inject / inject + temporal apart",
+        fused.fused_vs_separate,
+        fused.fused_inject_ms,
+        fused.separate_inject_temporal_ms,
+        fused.froxel_fast_fused_vs_separate
+    );
+    let pairs = &r.froxel_4k_vs_720p_frames;
+    let _ = writeln!(
+        out,
+        "{:<36} {:>9.3}x  (median of {} frames, {:.3}x to {:.3}x)",
+        "froxel cost 4K / 720p, per frame",
+        pairs.median,
+        pairs.samples.len(),
+        pairs.min,
+        pairs.max
+    );
     let _ = writeln!(
         out,
         "{:<36} {:>9.3}x  (the sun and the scene's lights through the medium's height profile)",
@@ -619,6 +723,40 @@ pub fn table(report: &Report) -> String {
         "{:<36} {:>10.3}  (the six lights' in-scattering with / without their shadows)",
         "light through the local shadows", l.light_through_shadows
     );
+    let c = &report.cost;
+    let _ = writeln!(
+        out,
+        "\nmemory floor (each texture once per direction; buffers and arithmetic left out)\n{:<22} {:>9} {:>9} {:>11} {:>11} {:>11}  texture read/write sites in the shader",
+        "series",
+        "read MB",
+        "write MB",
+        format!("@{} TB/s", c.bandwidths_tb_s[0]),
+        format!("@{} TB/s", c.bandwidths_tb_s[1]),
+        "measured"
+    );
+    for p in &c.passes {
+        let sites: Vec<String> = p
+            .textures
+            .iter()
+            .map(|t| {
+                format!(
+                    "{} {}/{}",
+                    t.uses.name, t.uses.read_sites, t.uses.write_sites
+                )
+            })
+            .collect();
+        let _ = writeln!(
+            out,
+            "{:<22} {:>9.2} {:>9.2} {:>8.4} ms {:>8.4} ms {:>8.3} ms  {}",
+            p.series,
+            p.bytes_read as f64 / 1e6,
+            p.bytes_written as f64 / 1e6,
+            p.floor_ms[0],
+            p.floor_ms[1],
+            p.measured_ms,
+            sites.join(", ")
+        );
+    }
     let m = &report.memory;
     let _ = writeln!(
         out,

@@ -14,10 +14,11 @@ pub(super) const SERIES: &[(&str, &str)] = &[
     ("inject_cull", "inject, depth culling +"),
     ("inject_checkerboard", "inject, checkerboard +"),
     ("inject_noise_texture", "inject, noise texture +"),
-    ("inject_fast", "inject, all three +"),
+    ("inject_fast", "inject, all three, temporal fused +"),
+    ("inject_fast_separate", "inject, all three, apart +"),
     ("temporal_cull", "temporal, depth culling +"),
     ("temporal_checkerboard", "temporal, checkerboard +"),
-    ("temporal_fast", "temporal, all three +"),
+    ("temporal_fast", "temporal, all three, apart +"),
     ("scan_fast", "scan, depth culling +"),
     ("write", "write 160x90x128 (floor)"),
     ("copy", "copy 160x90x128 (floor)"),
@@ -25,6 +26,10 @@ pub(super) const SERIES: &[(&str, &str)] = &[
     ("blit_1080p", "blit 1920x1080 (floor)"),
     ("froxel_1080p", "froxel pipeline 1080p *"),
     ("froxel_fast_1080p", "froxel fast 1080p *+"),
+    (
+        "froxel_fast_separate_1080p",
+        "froxel fast, temporal apart *+",
+    ),
     ("raymarch_1080p", "raymarch 1080p, 64 steps"),
     ("froxel_720p", "froxel 720p camera **"),
     ("froxel_4k", "froxel 4K camera **"),
@@ -50,20 +55,24 @@ pub(super) fn froxel_cost(t: &PassTimings) -> f64 {
 }
 
 /// The configurations compared at 1080p with the baseline (no culling, every froxel
-/// injected each frame, procedural noise): depth culling, the checkerboard, the noise
-/// texture, and all three.
-pub(super) fn variant_configs(base: &FogConfig) -> [FogConfig; 4] {
-    let with = |depth_cull, amortize, noise_texture| FogConfig {
+/// injected each frame, procedural noise, the temporal pass apart): depth culling, the
+/// checkerboard, the noise texture, each with the temporal pass apart; all three with
+/// the temporal blend fused into inject (the cheap path as `FogConfig::default`
+/// builds it), and all three with the temporal pass apart.
+pub(super) fn variant_configs(base: &FogConfig) -> [FogConfig; 5] {
+    let with = |depth_cull, amortize, noise_texture, fuse_temporal| FogConfig {
         depth_cull,
         amortize,
         noise_texture,
+        fuse_temporal,
         ..base.clone()
     };
     [
-        with(true, false, false),
-        with(false, true, false),
-        with(false, false, true),
-        with(true, true, true),
+        with(true, false, false, false),
+        with(false, true, false, false),
+        with(false, false, true, false),
+        with(true, true, true, true),
+        with(true, true, true, false),
     ]
 }
 
@@ -115,8 +124,9 @@ pub(super) struct Workloads {
     pub(super) scene: Scene,
     pub(super) cascades: volfog::uniforms::ShadowCascades,
     pub(super) main: Screen,
-    /// Culling, checkerboard, noise texture, all three (see [`variant_configs`]).
-    pub(super) variants: [Screen; 4],
+    /// Culling, checkerboard, noise texture, all three fused, all three with the
+    /// temporal pass apart (see [`variant_configs`]).
+    pub(super) variants: [Screen; 5],
     /// The baseline with `FogConfig::light_transmittance` off.
     pub(super) untransmitted: Screen,
     pub(super) small: Screen,
@@ -139,11 +149,13 @@ pub(super) struct Workloads {
 
 impl Workloads {
     pub(super) fn new(gpu: &Gpu) -> Result<Self, BenchError> {
+        // The baseline times every pass apart, the temporal pass included.
         let config = FogConfig {
             timestamps: true,
             depth_cull: false,
             amortize: false,
             noise_texture: false,
+            fuse_temporal: false,
             ..FogConfig::default()
         };
         let scene = Scene::new();
@@ -159,12 +171,13 @@ impl Workloads {
         )?;
         let depth = Screen::scene_depth(gpu, &scene, SCREEN)?;
         let main = Screen::new(gpu, &config, &shadow_map, &depth, SCREEN)?;
-        let [a, b, c, d] = variant_configs(&config);
+        let [a, b, c, d, e] = variant_configs(&config);
         let variants = [
             Screen::new(gpu, &a, &shadow_map, &depth, SCREEN)?,
             Screen::new(gpu, &b, &shadow_map, &depth, SCREEN)?,
             Screen::new(gpu, &c, &shadow_map, &depth, SCREEN)?,
             Screen::new(gpu, &d, &shadow_map, &depth, SCREEN)?,
+            Screen::new(gpu, &e, &shadow_map, &depth, SCREEN)?,
         ];
         let untransmitted = Screen::new(
             gpu,
@@ -241,7 +254,7 @@ impl Workloads {
         with_raymarch: bool,
     ) -> Result<Vec<(&'static str, Sample)>, BenchError> {
         let inputs = self.scene.inputs(f as f32 / 60.0, self.cascades);
-        let [v0, v1, v2, v3] = &mut self.variants;
+        let [v0, v1, v2, v3, v4] = &mut self.variants;
         for s in [
             &mut self.main,
             &mut self.small,
@@ -251,6 +264,7 @@ impl Workloads {
             v1,
             v2,
             v3,
+            v4,
         ] {
             s.fog.prepare(&gpu.queue, &inputs)?;
         }
@@ -263,9 +277,18 @@ impl Workloads {
             (self.main.frame(gpu)?, untransmitted)
         };
         let mut variants = Vec::new();
-        for s in &mut self.variants {
+        for s in &mut self.variants[..3] {
             variants.push(s.frame(gpu)?);
         }
+        // The cheap path fused and apart, in alternating order.
+        let [.., fused, apart] = &mut self.variants;
+        let (fast, separate) = if f.is_multiple_of(2) {
+            let fast = fused.frame(gpu)?;
+            (fast, apart.frame(gpu)?)
+        } else {
+            let separate = apart.frame(gpu)?;
+            (fused.frame(gpu)?, separate)
+        };
         let timer = &self.timer;
         let copy_t = timer.run(gpu, 0, |e| self.copy.encode(e, timer, 0))?;
         let write_t = timer.run(gpu, 3, |e| self.write.encode(e, timer, 3))?;
@@ -306,21 +329,25 @@ impl Workloads {
             cpu: pick(&t.1),
         };
         let main = (tg, tc);
-        let fast = variants[3];
         let mut samples = vec![
             ("cull", both(&|p| p.cull, &fast)),
             ("inject_cull", both(&|p| p.inject, &variants[0])),
             ("inject_checkerboard", both(&|p| p.inject, &variants[1])),
             ("inject_noise_texture", both(&|p| p.inject, &variants[2])),
             ("inject_fast", both(&|p| p.inject, &fast)),
+            ("inject_fast_separate", both(&|p| p.inject, &separate)),
             ("temporal_cull", both(&|p| p.temporal, &variants[0])),
             ("temporal_checkerboard", both(&|p| p.temporal, &variants[1])),
-            ("temporal_fast", both(&|p| p.temporal, &fast)),
+            ("temporal_fast", both(&|p| p.temporal, &separate)),
             ("scan_fast", both(&|p| p.scan, &variants[0])),
             ("write", write_t),
             (
                 "froxel_fast_1080p",
                 both(&|p| froxel_cost(p) + p.apply, &fast),
+            ),
+            (
+                "froxel_fast_separate_1080p",
+                both(&|p| froxel_cost(p) + p.apply, &separate),
             ),
             ("esm_downsample", both(&|p| p.esm_downsample, &main)),
             ("esm_blur", both(&|p| p.esm_blur, &main)),

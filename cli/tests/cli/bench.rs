@@ -21,7 +21,7 @@ fn quick_bench_writes_every_ratio_memory_and_adapter() {
     let started = std::time::Instant::now();
     let run = std::process::Command::new(env!("CARGO_BIN_EXE_volfog"))
         .args([
-            "bench", "--quick", "--warmup", "0", "--frames", "1", "--out",
+            "bench", "--quick", "--json", "--warmup", "0", "--frames", "1", "--out",
         ])
         .arg(&out)
         .output()
@@ -54,13 +54,39 @@ fn quick_bench_writes_every_ratio_memory_and_adapter() {
         "inject unshadowed / None",
         "local shadow atlas memory",
         "light through the local shadows",
+        "fused inject / inject + temporal apart",
+        "froxel cost 4K / 720p, per frame",
         "VolumetricFog::memory_bytes",
+        "memory floor",
     ] {
-        assert!(stdout.contains(line), "the table lacks {line:?}");
+        assert!(
+            stderr.contains(line),
+            "the table (on stderr with --json) lacks {line:?}"
+        );
     }
 
     let report: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(&out).unwrap()).unwrap();
+    let printed: serde_json::Value =
+        serde_json::from_str(&stdout).expect("with --json stdout is the report alone");
+    assert_eq!(
+        printed, report,
+        "stdout carries the report written to --out"
+    );
+    let cost = report["cost"]["passes"].as_array().expect("cost model");
+    assert_eq!(cost.len(), 12, "every modelled pass: {}", report["cost"]);
+    for pass in cost {
+        for key in ["floor_ms", "measured_vs_floor"] {
+            let values = pass[key].as_array().expect("one per bandwidth");
+            assert_eq!(values.len(), 2, "{pass}");
+            assert!(
+                values
+                    .iter()
+                    .all(|v| v.as_f64().is_some_and(|v| v.is_finite() && v > 0.0)),
+                "{key}: {pass}"
+            );
+        }
+    }
     let _ = std::fs::remove_dir_all(&dir);
     for ratio in [
         "scan_vs_copy",
@@ -79,6 +105,22 @@ fn quick_bench_writes_every_ratio_memory_and_adapter() {
         );
         assert!(r["target"].is_string() && r["met"].is_boolean(), "{r}");
     }
+    let fused = &report["fused_temporal"];
+    for key in [
+        "fused_inject_ms",
+        "separate_inject_temporal_ms",
+        "fused_vs_separate",
+        "froxel_fast_fused_vs_separate",
+    ] {
+        let v = fused[key].as_f64().unwrap_or(f64::NAN);
+        assert!(v.is_finite() && v > 0.0, "fused_temporal {key} = {v}");
+    }
+    let frames = &report["ratios"]["froxel_4k_vs_720p_frames"];
+    assert_eq!(
+        frames["samples"].as_array().map(Vec::len),
+        Some(1),
+        "one ratio per measured frame: {frames}"
+    );
     for key in [
         "sky_solve_vs_blit",
         "cloud_shadow_vs_blit",
@@ -129,7 +171,9 @@ fn quick_bench_writes_every_ratio_memory_and_adapter() {
         "inject_checkerboard",
         "inject_noise_texture",
         "inject_fast",
+        "inject_fast_separate",
         "temporal_fast",
+        "froxel_fast_separate_1080p",
         "write",
         "froxel_fast_1080p",
         "epipolar_tree",
@@ -438,4 +482,100 @@ fn raymarch_reference_matches_the_froxel_pipeline_in_homogeneous_fog() {
     );
     assert!(l_ref <= 3e-3 && t_ref <= 3e-3, "{l_ref} {t_ref}");
     assert!(l_fx <= 1e-2 && t_fx <= 5e-3, "{l_fx} {t_fx}");
+}
+
+/// The cost model reads the passes' textures from their composed shaders: the copy
+/// reads its source and writes its destination, one volume each; the fused inject
+/// reads the history and writes the stabilised volume, not the scattering volume the
+/// separate path writes; culling scales the volume traffic by the live share; each
+/// floor is the bytes over the bandwidth.
+#[test]
+fn cost_model_counts_each_pass_textures_from_its_shader() {
+    use volfog_cli::bench::cost;
+    let config = FogConfig {
+        fuse_temporal: false,
+        ..FogConfig::default()
+    };
+    let live = 0.25;
+    let model = cost::model(&config, &cost::Sizes::new(&config, live), &|_| 2.0).unwrap();
+    let volume = 160 * 90 * 128 * 8u64;
+    let pass = |series: &str| {
+        model
+            .passes
+            .iter()
+            .find(|p| p.series == series)
+            .unwrap_or_else(|| panic!("no {series} in {model:#?}"))
+    };
+    let texture = |series: &str, name: &str| {
+        pass(series)
+            .textures
+            .iter()
+            .find(|t| t.uses.name == name)
+            .map(|t| (t.uses.read_sites, t.uses.write_sites, t.bytes))
+    };
+    let copy = pass("copy");
+    assert_eq!(
+        (copy.bytes_read, copy.bytes_written),
+        (volume, volume),
+        "{copy:#?}"
+    );
+    assert_eq!(
+        texture("copy", "source").map(|t| (t.0 > 0, t.1)),
+        Some((true, 0))
+    );
+    assert_eq!(
+        texture("copy", "destination").map(|t| (t.0, t.1 > 0)),
+        Some((0, true))
+    );
+    for (i, bandwidth) in cost::BANDWIDTHS_TB_S.iter().enumerate() {
+        let floor = 2.0 * volume as f64 / (bandwidth * 1e12) * 1e3;
+        assert!((copy.floor_ms[i] - floor).abs() < 1e-12, "{copy:#?}");
+        assert!((copy.measured_vs_floor[i] - 2.0 / floor).abs() < 1e-9);
+    }
+    let write = pass("write");
+    assert_eq!(
+        (write.bytes_read, write.bytes_written),
+        (0, volume),
+        "{write:#?}"
+    );
+
+    let quarter = (volume as f64 * live).round() as u64;
+    // The fused inject writes the stabilised volume through its output binding.
+    let fused = texture("inject_fast", "scattering").expect("the fused inject writes its output");
+    assert!(fused.1 > 0 && fused.2 == quarter, "{fused:?}");
+    assert!(
+        texture("inject_fast", "history").is_some_and(|t| t.0 > 0 && t.1 == 0 && t.2 == quarter),
+        "the fused inject reads the history: {:#?}",
+        pass("inject_fast")
+    );
+    let separate = texture("inject_fast_separate", "scattering")
+        .expect("the separate inject writes scattering");
+    assert!(separate.1 > 0 && separate.2 == quarter, "{separate:?}");
+    assert!(texture("inject_fast_separate", "history").is_none());
+    let baseline = texture("inject", "scattering").expect("inject writes scattering");
+    assert_eq!(baseline.2, volume, "the baseline covers every froxel");
+    assert!(
+        texture("inject", "esm_array").is_some_and(|t| t.0 > 0),
+        "inject samples the ESM"
+    );
+    assert!(
+        pass("inject").bytes_read > 0 && pass("scan").bytes_written >= volume,
+        "{model:#?}"
+    );
+    let apply = pass("apply_1080p");
+    assert!(
+        texture("apply_1080p", "scene_depth").is_some_and(|t| t.0 > 0 && t.2 == 1920 * 1080 * 4),
+        "{apply:#?}"
+    );
+    let target = 1920 * 1080 * 8;
+    assert_eq!(
+        (apply.target_read_bytes, apply.target_written_bytes),
+        (target, target)
+    );
+    let blit = pass("blit_1080p");
+    assert_eq!(
+        (blit.bytes_read, blit.bytes_written),
+        (target, target),
+        "{blit:#?}"
+    );
 }
