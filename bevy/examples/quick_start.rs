@@ -10,7 +10,7 @@ fn main() {
     use volfog_bevy::{FogVolumeShape, FroxelFog, FroxelFogVolume, VolumetricFogPlugin};
 
     App::new().add_plugins((DefaultPlugins, VolumetricFogPlugin)).add_systems(Startup, |mut commands: Commands| {
-        commands.spawn((Camera3d::default(), Msaa::Off, FroxelFog { far: 150.0, ..default() }));
+        commands.spawn((Camera3d::default(), FroxelFog { far: 150.0, ..default() }));
         commands.spawn((DirectionalLight { shadow_maps_enabled: true, ..default() }, Transform::default()));
         commands.spawn((FroxelFogVolume { shape: FogVolumeShape::Ellipsoid, density: 0.2, edge: 0.5 },
                         Transform::from_xyz(0.0, 2.0, -10.0).with_scale(Vec3::splat(6.0))));

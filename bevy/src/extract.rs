@@ -18,7 +18,6 @@ use bevy::light::{
 use bevy::prelude::*;
 use bevy::render::Extract;
 use bevy::render::sync_world::RenderEntity;
-use bevy::render::view::Msaa;
 use volfog::cpu::ambient::AmbientSh;
 use volfog::glam as vg;
 use volfog::limits::{self, InvalidValue, check};
@@ -114,7 +113,6 @@ type FogCameraItems = (
     &'static FroxelFog,
     &'static GlobalTransform,
     Option<&'static Exposure>,
-    Option<&'static Msaa>,
 );
 
 /// Cameras without fog (their render entity loses any fog of an earlier frame).
@@ -153,13 +151,12 @@ pub fn extract_froxel_fog(
     for render in &others {
         commands.entity(render).remove::<ExtractedFroxelFog>();
     }
-    for (entity, render, camera, fog, transform, exposure, msaa) in &cameras {
+    for (entity, render, camera, fog, transform, exposure) in &cameras {
         let scene = Scene {
             camera,
             entity,
             transform,
             exposure: exposure.copied().unwrap_or_default().exposure(),
-            msaa: msaa.copied().unwrap_or_default(),
             ambient: ambient.as_deref(),
             shadow_map_size: shadow_map.size as u32,
             point_shadow_map_size: point_shadow_map.size as u32,
@@ -191,7 +188,6 @@ struct Scene<'a> {
     entity: Entity,
     transform: &'a GlobalTransform,
     exposure: f32,
-    msaa: Msaa,
     ambient: Option<&'a GlobalAmbientLight>,
     shadow_map_size: u32,
     point_shadow_map_size: u32,
@@ -270,12 +266,6 @@ fn extracted<'a>(
     (lights, light_shadows): (Vec<FogLight>, Vec<ExtractedLightShadow>),
     volumes: &[(FroxelFogVolume, Mat4)],
 ) -> Result<ExtractedFroxelFog, InvalidValue> {
-    check(
-        scene.msaa == Msaa::Off,
-        "Msaa",
-        scene.msaa,
-        "Msaa::Off on a FroxelFog camera (the fog reads the single-sampled depth)",
-    )?;
     TILE_SIZE.check("FroxelFog.tile_size", fog.tile_size)?;
     let viewport = scene.camera.physical_viewport_size().unwrap_or(UVec2::ONE);
     let grid = (viewport + (fog.tile_size - 1)) / fog.tile_size;

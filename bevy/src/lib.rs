@@ -19,7 +19,7 @@
 //! assert_eq!((fog.tile_size, fog.slices), (8, 128)); // 8x8-pixel froxels, 128 slices
 //!
 //! let mut world = World::new();
-//! let camera = world.spawn((Camera3d::default(), Msaa::Off, fog.clone())).id();
+//! let camera = world.spawn((Camera3d::default(), fog.clone())).id();
 //! let bank = world
 //!     .spawn(FroxelFogVolume { shape: FogVolumeShape::Ellipsoid, density: 0.2, edge: 0.5 })
 //!     .id();
@@ -42,8 +42,8 @@
 //! assert!((seen - (-density_at_eye * 60.0).exp()).abs() < 1e-5);
 //! ```
 //!
-//! Add [`VolumetricFogPlugin`], put [`FroxelFog`] on a `Camera3d` (with `Msaa::Off`)
-//! and, if you like, [`FroxelFogVolume`]s in the scene. The fog is lit by the first
+//! Add [`VolumetricFogPlugin`], put [`FroxelFog`] on a `Camera3d` (multisampled or
+//! not) and, if you like, [`FroxelFogVolume`]s in the scene. The fog is lit by the first
 //! `DirectionalLight` through its shadow cascades, by every `PointLight` and
 //! `SpotLight` (those with shadows through Bevy's own shadow maps, within
 //! [`FroxelFog`]'s budget), and by the `GlobalAmbientLight`; it is applied to the opaque scene
@@ -55,7 +55,7 @@
 //! use volfog_bevy::{FroxelFog, FroxelFogVolume, FogVolumeShape, VolumetricFogPlugin};
 //!
 //! fn setup(mut commands: Commands) {
-//!     commands.spawn((Camera3d::default(), Msaa::Off, FroxelFog::default()));
+//!     commands.spawn((Camera3d::default(), FroxelFog::default()));
 //!     commands.spawn((
 //!         FroxelFogVolume { shape: FogVolumeShape::Ellipsoid, density: 0.2, edge: 0.5 },
 //!         Transform::from_xyz(0.0, 2.0, -10.0).with_scale(Vec3::splat(6.0)),
@@ -68,6 +68,7 @@
 mod extract;
 mod light_shadows;
 pub mod material;
+mod msaa;
 mod render;
 mod settings;
 pub mod wesl;

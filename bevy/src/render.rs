@@ -14,6 +14,7 @@ use volfog::pipeline::{FogError, VolumetricFog};
 
 use crate::extract::ExtractedFroxelFog;
 use crate::light_shadows::{BevyLights, BevyShadowLayout};
+use crate::msaa::DepthResolve;
 
 /// The fog of every fog camera, by render-world view entity.
 #[derive(Resource, Default)]
@@ -130,12 +131,15 @@ pub struct ViewFog {
     /// The pipeline (rebuilt when the settings, the viewport or the shadow map
     /// change).
     pub fog: VolumetricFog,
-    apply: Option<(wgpu::TextureFormat, ApplyPipeline)>,
+    /// The apply pass, for the colour format and samples per pixel it was built for.
+    apply: Option<((wgpu::TextureFormat, u32), ApplyPipeline)>,
     shadow_map: Option<wgpu::Texture>,
     /// Bevy's point light cube array and directional (and spot) light array, as set.
     point_maps: Option<wgpu::Texture>,
     spot_maps: Option<wgpu::Texture>,
     depth: Option<(wgpu::Texture, wgpu::BindGroup)>,
+    /// A multisampled camera's depth, resolved to one depth per pixel.
+    depth_resolve: Option<DepthResolve>,
     ready: bool,
 }
 
@@ -184,6 +188,7 @@ pub fn build_froxel_fog(
                         point_maps: None,
                         spot_maps: None,
                         depth: None,
+                        depth_resolve: None,
                         ready: false,
                     },
                 );
@@ -265,12 +270,28 @@ fn prepare_view(
         _ => inputs.cascades.count = 0,
     }
 
-    let format = target.main_texture_format();
-    if view.apply.as_ref().is_none_or(|(f, _)| *f != format) {
-        view.apply = Some((format, view.fog.create_apply(device, format)?));
+    let bevy_depth: &wgpu::Texture = &depth.attachment.texture.texture;
+    let samples = bevy_depth.sample_count();
+    let key = (target.main_texture_format(), samples);
+    if view.apply.as_ref().is_none_or(|(k, _)| *k != key) {
+        let apply = view.fog.create_apply_multisampled(device, key.0, samples)?;
+        view.apply = Some((key, apply));
         view.depth = None;
     }
-    let depth_texture: &wgpu::Texture = &depth.attachment.texture.texture;
+    // A multisampled camera: the fog reads the farthest sample of each pixel.
+    if samples == 1 {
+        view.depth_resolve = None;
+    } else if view
+        .depth_resolve
+        .as_ref()
+        .is_none_or(|r| r.source() != bevy_depth)
+    {
+        view.depth_resolve = Some(DepthResolve::new(device, bevy_depth));
+    }
+    let depth_texture = view
+        .depth_resolve
+        .as_ref()
+        .map_or(bevy_depth, |r| r.resolved());
     if view.depth.as_ref().is_none_or(|(t, _)| t != depth_texture) {
         view.fog.set_scene_depth(device, depth_texture, 0)?;
         let depth_view = depth_texture.create_view(&wgpu::TextureViewDescriptor {
@@ -340,9 +361,26 @@ pub fn froxel_fog_pass(
     let span = diagnostics.time_span(ctx.command_encoder(), "volfog");
     let encoder = ctx.command_encoder();
     encoder.push_debug_group("volfog");
+    if let Some(resolve) = &fog.depth_resolve {
+        resolve.encode(encoder);
+    }
     let result = fog.fog.encode(encoder).and_then(|()| {
-        fog.fog
-            .record_apply(encoder, apply, target.main_texture_view(), depth_group)
+        if apply.samples() == 1 {
+            fog.fog
+                .record_apply(encoder, apply, target.main_texture_view(), depth_group)
+        } else {
+            // Every sample of the multisampled target, resolved when the pass ends;
+            // Bevy's transparent pass then loads the fogged samples.
+            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                label: Some("volfog apply (multisampled)"),
+                color_attachments: &[Some(target.get_color_attachment())],
+                depth_stencil_attachment: None,
+                timestamp_writes: None,
+                occlusion_query_set: None,
+                multiview_mask: None,
+            });
+            fog.fog.draw_apply(&mut pass, apply, depth_group)
+        }
     });
     encoder.pop_debug_group();
     span.end(ctx.command_encoder());

@@ -13,7 +13,7 @@ use bevy::prelude::*;
 /// height-fog tail continues it.
 ///
 /// Values out of range switch the fog off for this camera with one warning naming
-/// the field and its range. The camera must render without MSAA (`Msaa::Off`).
+/// the field and its range.
 #[derive(Component, Clone, Debug, PartialEq)]
 pub struct FroxelFog {
     /// Screen pixels per froxel side: the grid is `ceil(viewport / tile_size)`

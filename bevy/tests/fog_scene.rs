@@ -477,7 +477,8 @@ fn fog_shows_light_shafts() {
     .expect("valid froxels");
     let world_from_view = f.view_from_world.inverse();
     let camera = world_from_view.transform_point3(vg::Vec3::ZERO);
-    let texel = |v: &Volume, x: u32, y: u32, z: u32| v.texels[((z * size.y + y) * size.x + x) as usize];
+    let texel =
+        |v: &Volume, x: u32, y: u32, z: u32| v.texels[((z * size.y + y) * size.x + x) as usize];
     // J of the froxel (x, y, z) in a volume.
     let source = |v: &Volume, x: u32, y: u32, z: u32| {
         let (front, back) = (texel(v, x, y, z - 1), texel(v, x, y, z));
@@ -509,13 +510,22 @@ fn fog_shows_light_shafts() {
                     continue;
                 }
                 let through = if f.config.light_transmittance {
-                    volfog::cpu::density::medium_light_transmittance(&f.medium, world_v, f.sun.direction)
+                    volfog::cpu::density::medium_light_transmittance(
+                        &f.medium,
+                        world_v,
+                        f.sun.direction,
+                    )
                 } else {
                     1.0
                 };
                 let view_dir = (world_v - camera).normalize();
                 let j_sun = (f.medium.albedo
-                    * volfog::cpu::lights::sun_inscatter(&f.sun, through, view_dir, f.medium.phase_g))
+                    * volfog::cpu::lights::sun_inscatter(
+                        &f.sun,
+                        through,
+                        view_dir,
+                        f.medium.phase_g,
+                    ))
                 .element_sum();
                 let (j_on, j_off) = (source(on, x, y, z), source(off, x, y, z));
                 let class = if boxes.iter().any(|b| b.hit(world, sun).is_some()) {
@@ -543,8 +553,14 @@ fn fog_shows_light_shafts() {
         f.config.light_transmittance,
         100.0 * taken_lit
     );
-    assert!(taken_shade >= 0.8 && taken_shade <= 1.1, "shadowed froxels keep the sun: {taken_shade}");
-    assert!(taken_lit.abs() <= 0.1, "sunlit froxels lose the sun: {taken_lit}");
+    assert!(
+        taken_shade >= 0.8 && taken_shade <= 1.1,
+        "shadowed froxels keep the sun: {taken_shade}"
+    );
+    assert!(
+        taken_lit.abs() <= 0.1,
+        "sunlit froxels lose the sun: {taken_lit}"
+    );
     assert!(with > 1.5, "no visible shafts: {with}");
     assert!(without <= 1.3, "without shadows: {without}");
 }

@@ -131,6 +131,7 @@ pub struct ApplyPipeline {
     filtering: Filtering,
     input: ApplyInput,
     format: wgpu::TextureFormat,
+    samples: u32,
     depth_layout: wgpu::BindGroupLayout,
     pipeline: wgpu::RenderPipeline,
 }
@@ -156,6 +157,24 @@ impl ApplyPipeline {
         format: wgpu::TextureFormat,
         input: ApplyInput,
     ) -> Result<Self, CodegenError> {
+        Self::with_samples(device, fog_layout, filtering, format, input, 1)
+    }
+
+    /// As [`ApplyPipeline::with_input`], drawing into a colour target of `samples`
+    /// samples per pixel (a multisampled scene composited before its resolve): the
+    /// fragment runs once per pixel and every covered sample blends the pixel's fog
+    /// onto its own colour. `samples` must be a count the device supports for
+    /// `format` (the count the scene was rendered with);
+    /// [`VolumetricFog::create_apply_multisampled`](crate::pipeline::VolumetricFog::create_apply_multisampled)
+    /// checks it is 1, 2, 4 or 8.
+    pub fn with_samples(
+        device: &wgpu::Device,
+        fog_layout: &wgpu::BindGroupLayout,
+        filtering: Filtering,
+        format: wgpu::TextureFormat,
+        input: ApplyInput,
+        samples: u32,
+    ) -> Result<Self, CodegenError> {
         let vs = shader_module(device, "fullscreen", &[])?;
         let mut defines = filtering.defines();
         defines.extend(input.defines());
@@ -176,12 +195,14 @@ impl ApplyPipeline {
                     blend: Some(FOG_BLEND),
                     write_mask: wgpu::ColorWrites::ALL,
                 },
+                samples,
             },
         );
         Ok(Self {
             filtering,
             input,
             format,
+            samples,
             depth_layout,
             pipeline,
         })
@@ -200,6 +221,11 @@ impl ApplyPipeline {
     /// The colour target format.
     pub fn format(&self) -> wgpu::TextureFormat {
         self.format
+    }
+
+    /// Samples per pixel of the colour target it draws into.
+    pub fn samples(&self) -> u32 {
+        self.samples
     }
 
     /// The layout of group 1 (the scene depth).

@@ -108,6 +108,7 @@ impl CloudPasses {
                         blend: Some(FOG_BLEND),
                         write_mask: wgpu::ColorWrites::ALL,
                     },
+                    samples: 1,
                 },
             )
         });

@@ -225,6 +225,7 @@ impl HullThicknessPass {
                     blend: Some(HULL_SUM_BLEND),
                     write_mask: wgpu::ColorWrites::ALL,
                 },
+                samples: 1,
             },
         );
         Ok(Self {
@@ -323,6 +324,7 @@ impl HullCompositePass {
                     blend: Some(FOG_BLEND),
                     write_mask: wgpu::ColorWrites::ALL,
                 },
+                samples: 1,
             },
         );
         Ok(Self { layout, pipeline })

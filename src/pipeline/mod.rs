@@ -201,6 +201,8 @@ pub(crate) struct RenderPipelineDesc<'a> {
     pub buffers: &'a [Option<wgpu::VertexBufferLayout<'a>>],
     pub primitive: wgpu::PrimitiveState,
     pub target: wgpu::ColorTargetState,
+    /// Samples per pixel of the colour target (1 unless multisampled).
+    pub samples: u32,
 }
 
 pub(crate) fn render_pipeline(
@@ -223,7 +225,10 @@ pub(crate) fn render_pipeline(
         },
         primitive: desc.primitive,
         depth_stencil: None,
-        multisample: wgpu::MultisampleState::default(),
+        multisample: wgpu::MultisampleState {
+            count: desc.samples,
+            ..Default::default()
+        },
         fragment: Some(wgpu::FragmentState {
             module: desc.fragment.0,
             entry_point: Some(desc.fragment.1),

@@ -211,6 +211,7 @@ impl SkyLight {
                 buffers: &[],
                 primitive: wgpu::PrimitiveState::default(),
                 target: format.into(),
+                samples: 1,
             },
         );
         let draw_group = bind_group(

@@ -199,3 +199,192 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     );
     assert!(worst <= 5e-5, "{worst}");
 }
+
+/// A multisampled scene fogged before its resolve: `create_apply_multisampled` draws
+/// into a 4x colour target whose samples hold different colours (written per sample),
+/// and every sample blends the pixel's fog onto its own colour, so the resolve is the
+/// mean colour times T plus L, with (T, L) from the single-sample pass over black and
+/// white. A sample count outside 1, 2, 4, 8 is a typed error naming `samples`.
+#[test]
+fn multisampled_apply_fogs_every_sample_before_the_resolve() {
+    use common::scene::{projection, small_config, view};
+    use glam::Vec4;
+    use volfog::pipeline::{FogError, FrameInputs, VolumetricFog};
+
+    const SAMPLES: u32 = 4;
+    let gpu = gpu();
+    let (w, h) = (48, 27);
+    let format = wgpu::TextureFormat::Rgba16Float;
+    let mut fog = VolumetricFog::new(&gpu.device, &small_config()).unwrap();
+    fog.prepare(
+        &gpu.queue,
+        &FrameInputs::new(view(2.0, 0.0), projection(), 0.0),
+    )
+    .unwrap();
+    let mut encoder = gpu.device.create_command_encoder(&Default::default());
+    fog.encode(&mut encoder).unwrap();
+    gpu.queue.submit([encoder.finish()]);
+    let depths: Vec<f32> = (0..w * h)
+        .map(|i| 0.9 + 0.1 * (i % w) as f32 / w as f32)
+        .collect();
+    let depth = volfog_testkit::selfcheck::depth_texture(gpu, w, h, &depths).unwrap();
+    let depth_view = depth.create_view(&wgpu::TextureViewDescriptor {
+        aspect: wgpu::TextureAspect::DepthOnly,
+        ..Default::default()
+    });
+
+    // T and L per pixel: the single-sample pass over black and over white.
+    let single = fog.create_apply(&gpu.device, format).unwrap();
+    let over = |base: f32| {
+        let target =
+            gpu.texture_2d_rgba16f("over", [w, h], &vec![Vec4::splat(base); (w * h) as usize]);
+        let mut encoder = gpu.device.create_command_encoder(&Default::default());
+        fog.record_apply(
+            &mut encoder,
+            &single,
+            &target.create_view(&Default::default()),
+            &single.depth_bind_group(&gpu.device, &depth_view),
+        )
+        .unwrap();
+        gpu.queue.submit([encoder.finish()]);
+        gpu.read_texture_rgba16f(&target).unwrap()
+    };
+    let (black, white) = (over(0.0), over(1.0));
+
+    // The samples' colours, one per sample index (the fill runs per sample).
+    const FILL: &str = r#"
+@vertex
+fn fill_vs(@builtin(vertex_index) i: u32) -> @builtin(position) vec4<f32> {
+    let uv = vec2<f32>(f32((i << 1u) & 2u), f32(i & 2u));
+    return vec4<f32>(uv * 2.0 - 1.0, 0.0, 1.0);
+}
+@fragment
+fn fill_fs(@builtin(sample_index) s: u32) -> @location(0) vec4<f32> {
+    let k = f32(s);
+    return vec4<f32>(0.2 + 0.2 * k, 0.7 - 0.15 * k, 0.05 + 0.3 * k * k / 9.0, 1.0);
+}
+"#;
+    let colour = |s: u32| {
+        let k = s as f32;
+        Vec4::new(0.2 + 0.2 * k, 0.7 - 0.15 * k, 0.05 + 0.3 * k * k / 9.0, 1.0)
+    };
+    let module = gpu
+        .device
+        .create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some("per-sample fill"),
+            source: wgpu::ShaderSource::Wgsl(FILL.into()),
+        });
+    let fill = gpu
+        .device
+        .create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            label: Some("per-sample fill"),
+            layout: None,
+            vertex: wgpu::VertexState {
+                module: &module,
+                entry_point: Some("fill_vs"),
+                compilation_options: Default::default(),
+                buffers: &[],
+            },
+            primitive: Default::default(),
+            depth_stencil: None,
+            multisample: wgpu::MultisampleState {
+                count: SAMPLES,
+                ..Default::default()
+            },
+            fragment: Some(wgpu::FragmentState {
+                module: &module,
+                entry_point: Some("fill_fs"),
+                compilation_options: Default::default(),
+                targets: &[Some(format.into())],
+            }),
+            multiview_mask: None,
+            cache: None,
+        });
+    let texture = |label, samples, usage| {
+        gpu.device.create_texture(&wgpu::TextureDescriptor {
+            label: Some(label),
+            size: wgpu::Extent3d {
+                width: w,
+                height: h,
+                depth_or_array_layers: 1,
+            },
+            mip_level_count: 1,
+            sample_count: samples,
+            dimension: wgpu::TextureDimension::D2,
+            format,
+            usage: wgpu::TextureUsages::RENDER_ATTACHMENT | usage,
+            view_formats: &[],
+        })
+    };
+    let scene = texture("scene 4x", SAMPLES, wgpu::TextureUsages::empty());
+    let resolved = texture("resolved", 1, wgpu::TextureUsages::COPY_SRC);
+    let (scene_view, resolved_view) = (
+        scene.create_view(&Default::default()),
+        resolved.create_view(&Default::default()),
+    );
+    let apply = fog
+        .create_apply_multisampled(&gpu.device, format, SAMPLES)
+        .unwrap();
+    assert_eq!(apply.samples(), SAMPLES);
+    let depth_group = apply.depth_bind_group(&gpu.device, &depth_view);
+    let mut encoder = gpu.device.create_command_encoder(&Default::default());
+    for (load, resolve) in [(true, None), (false, Some(&resolved_view))] {
+        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("multisampled scene"),
+            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                view: &scene_view,
+                depth_slice: None,
+                resolve_target: resolve,
+                ops: wgpu::Operations {
+                    load: if load {
+                        wgpu::LoadOp::Clear(wgpu::Color::BLACK)
+                    } else {
+                        wgpu::LoadOp::Load
+                    },
+                    store: wgpu::StoreOp::Store,
+                },
+            })],
+            depth_stencil_attachment: None,
+            timestamp_writes: None,
+            occlusion_query_set: None,
+            multiview_mask: None,
+        });
+        if load {
+            pass.set_pipeline(&fill);
+            pass.draw(0..3, 0..1);
+        } else {
+            fog.draw_apply(&mut pass, &apply, &depth_group).unwrap();
+        }
+    }
+    gpu.queue.submit([encoder.finish()]);
+    let got = gpu.read_texture_rgba16f(&resolved).unwrap();
+
+    let mean = (0..SAMPLES).map(colour).sum::<Vec4>() / SAMPLES as f32;
+    let (mut worst, mut fogged) = (0.0f32, 0usize);
+    for i in 0..(w * h) as usize {
+        let l = black[i].truncate();
+        let t = white[i].truncate() - l;
+        let want = mean.truncate() * t + l;
+        let e = (got[i].truncate() - want).abs().max_element();
+        worst = worst.max(e);
+        fogged += usize::from((want - mean.truncate()).abs().max_element() > 0.05);
+        assert!(e <= 2e-3, "pixel {i}: {} against {want}", got[i]);
+    }
+    eprintln!(
+        "4x multisampled apply, resolved, against mean colour * T + L: max abs difference \
+         {worst:e} (bound 2e-3: rgba16float samples); {fogged} of {} pixels fogged by more \
+         than 0.05",
+        w * h
+    );
+    assert!(
+        fogged > (w * h / 10) as usize,
+        "the fog is visible: {fogged}"
+    );
+
+    for samples in [0, 3, 16] {
+        match fog.create_apply_multisampled(&gpu.device, format, samples) {
+            Err(FogError::Invalid(e)) => assert_eq!(e.field, "samples", "{e}"),
+            other => panic!("{samples} samples: {other:?}"),
+        }
+    }
+}

@@ -35,6 +35,7 @@ impl EpipolarShafts {
                     blend: Some(FOG_BLEND),
                     write_mask: wgpu::ColorWrites::ALL,
                 },
+                samples: 1,
             },
         );
         let shafts = self.shaft_view();

@@ -61,6 +61,37 @@ impl VolumetricFog {
         self.create_apply_with(device, format, crate::options::ApplyInput::FarField)
     }
 
+    /// The fullscreen apply pass of [`VolumetricFog::create_apply`] for a colour
+    /// target of `samples` samples per pixel (1, 2, 4 or 8; the count the scene was
+    /// rendered with, which the device supports for `format`): composite the fog onto
+    /// a multisampled scene before it is resolved, with [`VolumetricFog::draw_apply`]
+    /// in a render pass whose colour attachment is the multisampled target. The depth
+    /// it reads is single-sampled: one depth per pixel (e.g. the farthest of the
+    /// pixel's samples, which is also the depth that culls no visible froxel), so
+    /// every sample of a pixel gets the same fog and a silhouette's pixels get the fog
+    /// of that depth.
+    pub fn create_apply_multisampled(
+        &self,
+        device: &wgpu::Device,
+        format: wgpu::TextureFormat,
+        samples: u32,
+    ) -> Result<ApplyPipeline, FogError> {
+        crate::limits::check(
+            matches!(samples, 1 | 2 | 4 | 8),
+            "samples",
+            samples,
+            "1, 2, 4 or 8 samples per pixel",
+        )?;
+        Ok(ApplyPipeline::with_samples(
+            device,
+            &self.fog_layout,
+            self.config.apply_filtering,
+            format,
+            crate::options::ApplyInput::Depth,
+            samples,
+        )?)
+    }
+
     fn check_apply(&self, apply: &ApplyPipeline) -> Result<(), FogError> {
         if apply.filtering() != self.config.apply_filtering {
             return Err(FogError::ApplyMismatch {
