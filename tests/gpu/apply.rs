@@ -25,29 +25,11 @@ fn fullscreen_apply_matches_cpu() {
 /// and for several colour formats gives what the pass it records by itself gives.
 #[test]
 fn apply_draws_into_the_callers_pass_for_several_formats() {
-    use common::scene::{projection, small_config, view};
     use glam::Vec4;
-    use volfog::pipeline::{FrameInputs, VolumetricFog};
 
     let gpu = gpu();
     let (w, h) = (48, 27);
-    let mut fog = VolumetricFog::new(&gpu.device, &small_config()).unwrap();
-    fog.prepare(
-        &gpu.queue,
-        &FrameInputs::new(view(2.0, 0.0), projection(), 0.0),
-    )
-    .unwrap();
-    let mut encoder = gpu.device.create_command_encoder(&Default::default());
-    fog.encode(&mut encoder).unwrap();
-    gpu.queue.submit([encoder.finish()]);
-    let depths: Vec<f32> = (0..w * h)
-        .map(|i| 0.9 + 0.1 * (i % w) as f32 / w as f32)
-        .collect();
-    let depth = volfog_testkit::selfcheck::depth_texture(gpu, w, h, &depths).unwrap();
-    let depth_view = depth.create_view(&wgpu::TextureViewDescriptor {
-        aspect: wgpu::TextureAspect::DepthOnly,
-        ..Default::default()
-    });
+    let (fog, _depth, depth_view) = encoded_fog(gpu, w, h);
     let base = Vec4::new(0.6, 0.3, 0.1, 1.0);
     // The reference: the pass the fog records itself, onto rgba16float.
     let apply16 = fog
@@ -207,31 +189,14 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
 /// white. A sample count outside 1, 2, 4, 8 is a typed error naming `samples`.
 #[test]
 fn multisampled_apply_fogs_every_sample_before_the_resolve() {
-    use common::scene::{projection, small_config, view};
     use glam::Vec4;
-    use volfog::pipeline::{FogError, FrameInputs, VolumetricFog};
+    use volfog::pipeline::FogError;
 
     const SAMPLES: u32 = 4;
     let gpu = gpu();
     let (w, h) = (48, 27);
     let format = wgpu::TextureFormat::Rgba16Float;
-    let mut fog = VolumetricFog::new(&gpu.device, &small_config()).unwrap();
-    fog.prepare(
-        &gpu.queue,
-        &FrameInputs::new(view(2.0, 0.0), projection(), 0.0),
-    )
-    .unwrap();
-    let mut encoder = gpu.device.create_command_encoder(&Default::default());
-    fog.encode(&mut encoder).unwrap();
-    gpu.queue.submit([encoder.finish()]);
-    let depths: Vec<f32> = (0..w * h)
-        .map(|i| 0.9 + 0.1 * (i % w) as f32 / w as f32)
-        .collect();
-    let depth = volfog_testkit::selfcheck::depth_texture(gpu, w, h, &depths).unwrap();
-    let depth_view = depth.create_view(&wgpu::TextureViewDescriptor {
-        aspect: wgpu::TextureAspect::DepthOnly,
-        ..Default::default()
-    });
+    let (fog, _depth, depth_view) = encoded_fog(gpu, w, h);
 
     // T and L per pixel: the single-sample pass over black and over white.
     let single = fog.create_apply(&gpu.device, format).unwrap();
@@ -387,4 +352,37 @@ fn fill_fs(@builtin(sample_index) s: u32) -> @location(0) vec4<f32> {
             other => panic!("{samples} samples: {other:?}"),
         }
     }
+}
+
+/// The small scene's fog, prepared and encoded once, and a w x h depth buffer (a
+/// gradient from 0.9 to 1.0 across each row) with its depth-aspect view.
+fn encoded_fog(
+    gpu: &volfog_testkit::Gpu,
+    w: u32,
+    h: u32,
+) -> (
+    volfog::pipeline::VolumetricFog,
+    wgpu::Texture,
+    wgpu::TextureView,
+) {
+    use common::scene::{projection, small_config, view};
+    use volfog::pipeline::{FrameInputs, VolumetricFog};
+    let mut fog = VolumetricFog::new(&gpu.device, &small_config()).unwrap();
+    fog.prepare(
+        &gpu.queue,
+        &FrameInputs::new(view(2.0, 0.0), projection(), 0.0),
+    )
+    .unwrap();
+    let mut encoder = gpu.device.create_command_encoder(&Default::default());
+    fog.encode(&mut encoder).unwrap();
+    gpu.queue.submit([encoder.finish()]);
+    let depths: Vec<f32> = (0..w * h)
+        .map(|i| 0.9 + 0.1 * (i % w) as f32 / w as f32)
+        .collect();
+    let depth = volfog_testkit::selfcheck::depth_texture(gpu, w, h, &depths).unwrap();
+    let depth_view = depth.create_view(&wgpu::TextureViewDescriptor {
+        aspect: wgpu::TextureAspect::DepthOnly,
+        ..Default::default()
+    });
+    (fog, depth, depth_view)
 }
