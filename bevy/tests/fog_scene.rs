@@ -554,7 +554,7 @@ fn fog_shows_light_shafts() {
         100.0 * taken_lit
     );
     assert!(
-        taken_shade >= 0.8 && taken_shade <= 1.1,
+        (0.8..=1.1).contains(&taken_shade),
         "shadowed froxels keep the sun: {taken_shade}"
     );
     assert!(
