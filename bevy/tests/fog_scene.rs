@@ -26,6 +26,7 @@ use bevy::prelude::*;
 use bevy::render::RenderApp;
 use bevy::render::renderer::{RenderAdapter, RenderAdapterInfo, RenderDevice, RenderQueue};
 use scene::{FogKind, GlassSphere, SceneCamera, SceneOptions, Sun};
+use volfog::cpu::density::medium_light_transmittance;
 use volfog::glam as vg;
 use volfog_bevy::{ExtractedFroxelFog, FogViews, FoggedGlassMaterial, FroxelFog};
 
@@ -510,11 +511,7 @@ fn fog_shows_light_shafts() {
                     continue;
                 }
                 let through = if f.config.light_transmittance {
-                    volfog::cpu::density::medium_light_transmittance(
-                        &f.medium,
-                        world_v,
-                        f.sun.direction,
-                    )
+                    medium_light_transmittance(&f.medium, world_v, f.sun.direction)
                 } else {
                     1.0
                 };

@@ -37,6 +37,7 @@ mod passes;
 pub mod raymarch;
 mod report;
 mod scene;
+mod table;
 mod workloads;
 
 use std::path::PathBuf;
@@ -55,6 +56,7 @@ use scene::Scene;
 use local_lights::*;
 use passes::*;
 pub use report::*;
+pub use table::table;
 use workloads::*;
 
 /// Warm-up frames of a default run. On lavapipe (Mesa 22.3, 2 CPU cores) a frame of
