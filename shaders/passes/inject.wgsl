@@ -46,10 +46,10 @@
 // the block's bounding sphere are gathered in workgroup memory (at most 64 lights; when
 // more than 64 local volumes touch a block, every volume is evaluated), so distant ones
 // cost nothing.
-// Under FogLighting.transmittance the light of the sun and of every point and spot
-// light is attenuated by the medium's height profile on its way to the froxel
-// (volfog::density::medium_light_transmittance, medium_segment_transmittance); the
-// ambient light is not.
+// Under FogLighting.transmittance the light of the sun and of every point, spot and
+// directional light is attenuated by the medium's height profile on its way to the
+// froxel (volfog::density::medium_light_transmittance for the sun and directional
+// lights, medium_segment_transmittance for the others); the ambient light is not.
 // A froxel without extinction gets no lighting (its in-scattering is 0 whatever the light);
 // the emission of the medium and of the local volumes is added to rgb, so the scan
 // integrates it with the in-scattering.
@@ -100,7 +100,7 @@
 #import volfog::types::CloudLayer
 #import volfog::clouds::cloud_shadow
 #endif
-#import volfog::lights::{light_touches_sphere, fog_light_inscatter, sun_inscatter, sun_inscatter_two_color, ambient_inscatter}
+#import volfog::lights::{light_touches_sphere, fog_light_inscatter, sun_inscatter, sun_inscatter_two_color, ambient_inscatter, FOG_LIGHT_DIRECTIONAL}
 #ifdef VOLFOG_INJECT_LOCAL_SHADOWS
 #import volfog::types::LightProjection
 #import volfog::local_shadow::{local_shadow_visibility, light_cookie}
@@ -281,7 +281,7 @@ fn froxel_scattering(id: vec3<u32>, tile_light_count: u32, tile_volume_count: u3
         let local_light = lights[tile_lights[i]];
         var inscatter = fog_light_inscatter(local_light, world, view_dir, fog_medium.phase_g);
         if through {
-            inscatter *= medium_segment_transmittance(fog_medium, world, local_light.position);
+            inscatter *= light_path_transmittance(local_light, world);
         }
         light += inscatter;
     }
@@ -293,7 +293,7 @@ fn froxel_scattering(id: vec3<u32>, tile_light_count: u32, tile_volume_count: u3
         // Outside the light's range or cone its shadow is not looked up.
         if max(inscatter.r, max(inscatter.g, inscatter.b)) > 0.0 {
             if through {
-                inscatter *= medium_segment_transmittance(fog_medium, world, local_light.position);
+                inscatter *= light_path_transmittance(local_light, world);
             }
             let p = light_projections[local_light.projection];
             light += inscatter * (local_shadow_visibility(local_shadow_atlas, p, world)
@@ -305,6 +305,15 @@ fn froxel_scattering(id: vec3<u32>, tile_light_count: u32, tile_volume_count: u3
     // Clamped to the largest finite rgba16float value so no texel becomes Inf.
     let sigma_s = fog_medium.albedo * sigma_t;
     return min(vec4<f32>(sigma_s * light + emission, sigma_t), vec4<f32>(HALF_MAX));
+}
+
+// The medium's transmittance between a froxel and a light: along the segment to a
+// point or spot light, up to the medium's top towards a directional one.
+fn light_path_transmittance(light: FogLight, world: vec3<f32>) -> f32 {
+    if (light.flags & FOG_LIGHT_DIRECTIONAL) != 0u {
+        return medium_light_transmittance(fog_medium, world, -light.direction);
+    }
+    return medium_segment_transmittance(fog_medium, world, light.position);
 }
 
 @compute @workgroup_size(4, 4, WORKGROUP_Z)

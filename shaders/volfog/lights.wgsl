@@ -1,7 +1,7 @@
 // volfog::lights — light reaching a point of the medium, and in-scattering towards the
 // eye.
 //
-// Use:      #import volfog::lights::{light_attenuation, spot_factor, fog_light_inscatter, ...}
+// Use:      #import volfog::lights::{light_attenuation, fog_light_spot, fog_light_inscatter, ...}
 // Defines:  none
 // Units:    positions in metres; a light's colour is its intensity (illuminance at 1 m),
 //           the sun's colour its illuminance; results are radiance scattered per unit
@@ -26,6 +26,15 @@ fn light_attenuation(distance: f32, range: f32, radius: f32) -> f32 {
     return window * window / max(distance * distance, r * r);
 }
 
+// FogLight.flags: the light is directional (at infinity). Its `direction` is the way
+// its light travels and its `color` its illuminance; it lights every point of the
+// medium without falloff, and its position, range, radius and cone are ignored.
+const FOG_LIGHT_DIRECTIONAL: u32 = 1u;
+// FogLight.flags: the spot cone falls off as saturate(t)^2 with
+// t = (cos_angle - cos_outer) / max(cos_inner - cos_outer, 1e-4) (Filament's punctual
+// light, as Bevy's and other engines' surfaces light) instead of the smoothstep.
+const FOG_LIGHT_SPOT_SQUARED: u32 = 2u;
+
 // Spot cone falloff: smoothstep between the outer and inner cone cosines of the angle
 // between the spot axis and the direction from the light to the point. A light with
 // cos_outer <= -1 is a point light (factor 1).
@@ -36,25 +45,52 @@ fn spot_factor(cos_angle: f32, cos_outer: f32, cos_inner: f32) -> f32 {
     return smoothstep(cos_outer, max(cos_inner, cos_outer + 1e-4), cos_angle);
 }
 
+// Spot cone falloff of FOG_LIGHT_SPOT_SQUARED: saturate(t)^2, t as above; 1 for a
+// point light (cos_outer <= -1).
+fn spot_factor_squared(cos_angle: f32, cos_outer: f32, cos_inner: f32) -> f32 {
+    if cos_outer <= -1.0 {
+        return 1.0;
+    }
+    let t = clamp((cos_angle - cos_outer) / max(cos_inner - cos_outer, 1e-4), 0.0, 1.0);
+    return t * t;
+}
+
+// A light's cone falloff at cos_angle (between its axis and the direction from the
+// light to the point), by its flags.
+fn fog_light_spot(light: FogLight, cos_angle: f32) -> f32 {
+    if (light.flags & FOG_LIGHT_SPOT_SQUARED) != 0u {
+        return spot_factor_squared(cos_angle, light.cos_outer, light.cos_inner);
+    }
+    return spot_factor(cos_angle, light.cos_outer, light.cos_inner);
+}
+
 // Whether a light's range sphere touches a sphere of the given centre and radius
-// (a block of froxels): lights that fail this test cost nothing.
+// (a block of froxels): lights that fail this test cost nothing. A directional light
+// touches every sphere.
 fn light_touches_sphere(light: FogLight, center: vec3<f32>, radius: f32) -> bool {
+    if (light.flags & FOG_LIGHT_DIRECTIONAL) != 0u {
+        return true;
+    }
     let d = light.position - center;
     let r = light.range + radius;
     return dot(d, d) <= r * r;
 }
 
-// Radiance scattered towards the eye per unit sigma_s by a point or spot light at a
-// world position; view_dir is the unit direction from the eye to the point, g the HG
-// mean cosine.
+// Radiance scattered towards the eye per unit sigma_s by a point, spot or directional
+// light at a world position; view_dir is the unit direction from the eye to the point,
+// g the HG mean cosine.
 fn fog_light_inscatter(light: FogLight, world: vec3<f32>, view_dir: vec3<f32>, g: f32) -> vec3<f32> {
+    if (light.flags & FOG_LIGHT_DIRECTIONAL) != 0u {
+        let phase = phase_hg(dot(view_dir, -light.direction), g);
+        return light.color * (light.fog_intensity * phase);
+    }
     let offset = light.position - world;
     let distance = length(offset);
     // At the light's own position the direction is undefined; any unit vector will do
     // because the phase is then multiplied by the bounded attenuation.
     let to_light = select(view_dir, offset / distance, distance > 1e-6);
     let attenuation = light_attenuation(distance, light.range, light.radius);
-    let spot = spot_factor(dot(-to_light, light.direction), light.cos_outer, light.cos_inner);
+    let spot = fog_light_spot(light, dot(-to_light, light.direction));
     let phase = phase_hg(dot(view_dir, to_light), g);
     return light.color * (light.fog_intensity * attenuation * spot * phase);
 }

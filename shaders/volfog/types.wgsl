@@ -137,7 +137,7 @@ struct DirectionalLight {
     away_tint: vec3<f32>,
 }
 
-// A point or spot light affecting the fog (storage buffer element).
+// A point, spot or directional light affecting the fog (storage buffer element).
 struct FogLight {
     // World position (m).
     position: vec3<f32>,
@@ -147,7 +147,8 @@ struct FogLight {
     color: vec3<f32>,
     // Multiplier of this light's contribution to the fog, >= 0.
     fog_intensity: f32,
-    // Spot axis (unit, pointing away from the light); ignored for point lights.
+    // Spot axis (unit, pointing away from the light); for a directional light the way
+    // its light travels; ignored for point lights.
     direction: vec3<f32>,
     // Source radius (m), > 0: the inverse square law is clamped at this distance.
     radius: f32,
@@ -158,6 +159,10 @@ struct FogLight {
     // Index of the light's LightProjection (its shadow and cookie) in the projection
     // buffer of inject@INJECT_LOCAL_SHADOWS, or 0xffffffff (LOCAL_SHADOW_NONE): none.
     projection: u32,
+    // Bits of volfog::lights: FOG_LIGHT_DIRECTIONAL (a light at infinity: colour is its
+    // illuminance, position, range, radius and cone are ignored), FOG_LIGHT_SPOT_SQUARED
+    // (Filament's squared linear cone falloff instead of the smoothstep); 0 for none.
+    flags: u32,
 }
 
 // The projection of a point or spot light (volfog::local_shadow): its exponential

@@ -163,7 +163,11 @@ pub fn froxel_scattering(inputs: &InjectInputs<'_>, id: UVec3) -> Vec4 {
     for light_source in inputs.lights.iter().take(l.light_count as usize) {
         let mut inscatter = fog_light_inscatter(light_source, world, view_dir, m.phase_g);
         if through {
-            inscatter *= medium_segment_transmittance(m, world, light_source.position);
+            inscatter *= if light_source.is_directional() {
+                medium_light_transmittance(m, world, -light_source.direction)
+            } else {
+                medium_segment_transmittance(m, world, light_source.position)
+            };
         }
         if let Some(local) = inputs
             .local_shadows

@@ -1,5 +1,6 @@
-//! The lights of the froxel medium: `DirectionalLight` (the sun), `FogLight` (point
-//! and spot lights) and `FogLighting` (sun, ambient SH and light count).
+//! The lights of the froxel medium: `DirectionalLight` (the sun), `FogLight` (point,
+//! spot and further directional lights) and `FogLighting` (sun, ambient SH and light
+//! count).
 
 use encase::ShaderType;
 use glam::{Vec3, Vec4};
@@ -56,7 +57,31 @@ impl DirectionalLight {
     }
 }
 
-/// A point or spot light affecting the fog (WGSL `volfog::types::FogLight`).
+/// [`FogLight::flags`]: a directional light at infinity (WGSL
+/// `volfog::lights::FOG_LIGHT_DIRECTIONAL`). Its `direction` is the way its light
+/// travels, its `color` its illuminance; it lights every point without falloff, and
+/// its position, range, radius and cone are ignored.
+pub const FOG_LIGHT_DIRECTIONAL: u32 = 1;
+
+/// [`FogLight::flags`]: the spot cone falls off as `saturate(t)^2`,
+/// `t = (cos_angle - cos_outer) / max(cos_inner - cos_outer, 1e-4)` (Filament's
+/// punctual light, which Bevy's surfaces use) instead of the smoothstep (WGSL
+/// `volfog::lights::FOG_LIGHT_SPOT_SQUARED`).
+pub const FOG_LIGHT_SPOT_SQUARED: u32 = 2;
+
+/// A point, spot or directional light affecting the fog (WGSL
+/// `volfog::types::FogLight`).
+///
+/// ```
+/// use volfog::glam::Vec3;
+/// use volfog::uniforms::{FOG_LIGHT_DIRECTIONAL, FogLight};
+///
+/// // A second, unshadowed sun: light from the west, travelling east and down.
+/// let moon = FogLight::directional(Vec3::new(-1.0, 1.0, 0.0).normalize(), Vec3::splat(0.2));
+/// assert_eq!(moon.flags, FOG_LIGHT_DIRECTIONAL);
+/// assert!((moon.direction - Vec3::new(1.0, -1.0, 0.0).normalize()).length() < 1e-6);
+/// assert!(moon.validate().is_ok());
+/// ```
 #[derive(Debug, Clone, Copy, PartialEq, Default, ShaderType)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct FogLight {
@@ -82,6 +107,9 @@ pub struct FogLight {
     /// a shader only reads it under `VOLFOG_INJECT_LOCAL_SHADOWS`, and ignores an index
     /// past the projection buffer.
     pub projection: u32,
+    /// [`FOG_LIGHT_DIRECTIONAL`] and [`FOG_LIGHT_SPOT_SQUARED`] bits; 0 for a point or
+    /// spot light with the smoothstep cone.
+    pub flags: u32,
 }
 
 impl FogLight {
@@ -97,7 +125,24 @@ impl FogLight {
             cos_outer: -2.0,
             cos_inner: -2.0,
             projection: super::LOCAL_SHADOW_NONE,
+            flags: 0,
         }
+    }
+
+    /// A directional light at infinity: `toward` is the unit direction from the scene
+    /// towards the light (as [`DirectionalLight::direction`]), `color` its illuminance.
+    /// Unlike the sun it has no shadow.
+    pub fn directional(toward: Vec3, color: Vec3) -> Self {
+        Self {
+            direction: -toward.normalize_or(Vec3::Y),
+            flags: FOG_LIGHT_DIRECTIONAL,
+            ..Self::point(Vec3::ZERO, color, 1.0)
+        }
+    }
+
+    /// Whether this is a directional light ([`FOG_LIGHT_DIRECTIONAL`]).
+    pub fn is_directional(&self) -> bool {
+        self.flags & FOG_LIGHT_DIRECTIONAL != 0
     }
 
     /// A spot light with full intensity inside `inner` and none outside `outer`
@@ -120,12 +165,11 @@ impl FogLight {
 
     /// Checks the values.
     pub fn validate(&self) -> Result<(), InvalidValue> {
-        check_finite("FogLight.position", self.position, "a finite position")?;
         check(
-            self.range.is_finite() && self.range > 0.0,
-            "FogLight.range",
-            self.range,
-            "a finite range > 0 m",
+            self.flags & !(FOG_LIGHT_DIRECTIONAL | FOG_LIGHT_SPOT_SQUARED) == 0,
+            "FogLight.flags",
+            self.flags,
+            "FOG_LIGHT_DIRECTIONAL | FOG_LIGHT_SPOT_SQUARED bits only",
         )?;
         check(
             self.color.is_finite() && self.color.cmpge(Vec3::ZERO).all(),
@@ -138,6 +182,16 @@ impl FogLight {
             "FogLight.fog_intensity",
             self.fog_intensity,
             "a finite value >= 0",
+        )?;
+        if self.is_directional() {
+            return check_unit("FogLight.direction", self.direction);
+        }
+        check_finite("FogLight.position", self.position, "a finite position")?;
+        check(
+            self.range.is_finite() && self.range > 0.0,
+            "FogLight.range",
+            self.range,
+            "a finite range > 0 m",
         )?;
         check(
             self.radius.is_finite() && self.radius > 0.0,

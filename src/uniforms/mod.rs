@@ -47,7 +47,9 @@ pub use froxels::Froxels;
 pub use frustum::FrustumRays;
 pub use height_fog::HeightFog;
 pub use hull::FogHull;
-pub use lighting::{DirectionalLight, FogLight, FogLighting};
+pub use lighting::{
+    DirectionalLight, FOG_LIGHT_DIRECTIONAL, FOG_LIGHT_SPOT_SQUARED, FogLight, FogLighting,
+};
 pub use local_shadow::{
     CUBE_FACE_AXES, LOCAL_SHADOW_NONE, LOCAL_SHADOW_POINT, LOCAL_SHADOW_SPOT, LightCamera,
     LightProjection, LocalShadowSource,

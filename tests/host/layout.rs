@@ -260,6 +260,7 @@ fn rust_layouts() -> BTreeMap<&'static str, Measured> {
             cos_outer: f32,
             cos_inner: f32,
             projection: u32,
+            flags: u32,
         }),
         measure!(LightProjection {
             light_from_world: Mat4,

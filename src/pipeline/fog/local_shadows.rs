@@ -326,6 +326,13 @@ impl LocalShadows {
                 s.light,
                 "each light at most once",
             )?;
+            check(
+                !light.is_directional(),
+                "ShadowedLight.light",
+                s.light,
+                "a point or spot light (a directional FogLight has no shadow; the sun's is \
+                 FrameInputs.cascades)",
+            )?;
             let depth_terms = s.camera.depth_terms()?;
             let point = matches!(s.camera, LightCamera::Point { .. });
             let cookie = match s.cookie {

@@ -18,7 +18,7 @@
 #import volfog::sky::sky_sample
 #import volfog::height_fog::height_fog
 #import volfog::water::{water_fog, water_light}
-#import volfog::lights::{light_attenuation, spot_factor}
+#import volfog::lights::{light_attenuation, fog_light_spot}
 #import volfog::esm::{esm_cascade, esm_shadow_coord}
 #import volfog::bindings
 #import volfog::apply::{fog_coord_from_view, fog_sample, apply_fog}
@@ -160,7 +160,7 @@ fn local_irradiance(world: vec3<f32>, normal: vec3<f32>) -> vec3<f32> {
         let distance = length(offset);
         let l = offset / max(distance, 1e-6);
         let attenuation = light_attenuation(distance, light.range, light.radius);
-        let spot = spot_factor(dot(-l, light.direction), light.cos_outer, light.cos_inner);
+        let spot = fog_light_spot(light, dot(-l, light.direction));
         var lit = attenuation * spot * max(dot(normal, l), 0.0);
         if k == scene.lamp_index && lit > 0.0 {
             lit *= lamp_visibility(world, normal);
