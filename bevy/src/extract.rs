@@ -7,13 +7,17 @@
 //! light's colour is `color * illuminance` (lux); a point or spot light's intensity at
 //! 1 m is `color * intensity / 4 pi` (lumens to candela), as Bevy's PBR shader lights
 //! surfaces; the ambient radiance is `color * brightness`.
+//!
+//! The first directional light (the first with shadows, if any) is volfog's sun, with
+//! its cascades; every other directional light is a directional `FogLight`,
+//! unshadowed. Spot lights take Bevy's cone falloff (`FOG_LIGHT_SPOT_SQUARED`).
 
 use std::collections::HashSet;
 
 use bevy::camera::{Camera, Exposure};
 use bevy::light::{
     CascadeShadowConfig, Cascades, DirectionalLight, DirectionalLightShadowMap, GlobalAmbientLight,
-    PointLight, PointLightShadowMap, SpotLight,
+    PointLight, PointLightShadowMap, SpotLight, VolumetricLight,
 };
 use bevy::prelude::*;
 use bevy::render::Extract;
@@ -22,10 +26,13 @@ use volfog::cpu::ambient::AmbientSh;
 use volfog::glam as vg;
 use volfog::limits::{self, InvalidValue, check};
 use volfog::pipeline::FogConfig;
-use volfog::uniforms::{FogLight, FogMedium, HeightFog, LocalVolume, ShadowCascades, VolumeShape};
+use volfog::uniforms::{
+    FOG_LIGHT_SPOT_SQUARED, FogLight, FogMedium, HeightFog, LocalVolume, ShadowCascades,
+    VolumeShape,
+};
 
 use crate::light_shadows::{ExtractedLightShadow, local_shadow_config};
-use crate::settings::{FogVolumeShape, FroxelFog, FroxelFogVolume};
+use crate::settings::{FogLightSelection, FogVolumeShape, FroxelFog, FroxelFogVolume};
 
 /// Screen pixels per froxel side that [`FroxelFog::tile_size`] accepts.
 pub const TILE_SIZE: limits::Range<u32> = limits::Range::new(1, 256, "pixels");
@@ -50,7 +57,8 @@ pub struct ExtractedFroxelFog {
     pub sun: volfog::uniforms::DirectionalLight,
     /// Constant ambient radiance as SH.
     pub ambient: AmbientSh,
-    /// Point and spot lights, those that cast shadows in Bevy first.
+    /// Point and spot lights, those that cast shadows in Bevy first, then the
+    /// directional lights after the sun, then the others.
     pub lights: Vec<FogLight>,
     /// The lights that cast shadows in Bevy (their shadow maps are looked up in the
     /// render world each frame).
@@ -118,7 +126,18 @@ type FogCameraItems = (
 /// Cameras without fog (their render entity loses any fog of an earlier frame).
 type OtherCameras = (With<Camera>, Without<FroxelFog>);
 
-/// The lights as the extraction reads them.
+/// A directional light as the extraction reads it (the last: whether it has
+/// `VolumetricLight`).
+type SunItem<'a> = (
+    Entity,
+    &'a DirectionalLight,
+    &'a GlobalTransform,
+    Option<&'a Cascades>,
+    Option<&'a CascadeShadowConfig>,
+    bool,
+);
+
+/// The directional lights as the extraction reads them.
 type SunQuery<'w, 's> = Query<
     'w,
     's,
@@ -128,6 +147,7 @@ type SunQuery<'w, 's> = Query<
         &'static GlobalTransform,
         Option<&'static Cascades>,
         Option<&'static CascadeShadowConfig>,
+        Has<VolumetricLight>,
     ),
 >;
 
@@ -162,7 +182,7 @@ pub fn extract_froxel_fog(
             point_shadow_map_size: point_shadow_map.size as u32,
             time: time.elapsed_secs_wrapped(),
         };
-        let lights = collect_lights(&points, &spots, scene.exposure, fog.light_scattering);
+        let lights = collect_lights(&points, &spots, scene.exposure, fog);
         let local: Vec<(FroxelFogVolume, Mat4)> = volumes
             .iter()
             .map(|(v, t)| (v.clone(), t.to_matrix()))
@@ -195,11 +215,32 @@ struct Scene<'a> {
 }
 
 /// The point lights as the extraction reads them.
-type PointQuery<'w, 's> =
-    Query<'w, 's, (RenderEntity, &'static PointLight, &'static GlobalTransform)>;
+type PointQuery<'w, 's> = Query<
+    'w,
+    's,
+    (
+        RenderEntity,
+        &'static PointLight,
+        &'static GlobalTransform,
+        Has<VolumetricLight>,
+    ),
+>;
 /// The spot lights as the extraction reads them.
-type SpotQuery<'w, 's> =
-    Query<'w, 's, (RenderEntity, &'static SpotLight, &'static GlobalTransform)>;
+type SpotQuery<'w, 's> = Query<
+    'w,
+    's,
+    (
+        RenderEntity,
+        &'static SpotLight,
+        &'static GlobalTransform,
+        Has<VolumetricLight>,
+    ),
+>;
+
+/// Whether a light with (or without) `VolumetricLight` lights this fog.
+fn selected(fog: &FroxelFog, volumetric: bool) -> bool {
+    volumetric || fog.lights == FogLightSelection::All
+}
 
 /// The point and spot lights (the first [`limits::MAX_LIGHTS`], those with shadow maps
 /// first) and which of them cast shadows.
@@ -207,11 +248,15 @@ fn collect_lights(
     points: &PointQuery,
     spots: &SpotQuery,
     exposure: f32,
-    scattering: f32,
+    fog: &FroxelFog,
 ) -> (Vec<FogLight>, Vec<ExtractedLightShadow>) {
     let candela = exposure / (4.0 * std::f32::consts::PI);
+    let scattering = fog.light_scattering;
     let mut found: Vec<(bool, Entity, FogLight)> = Vec::new();
-    for (entity, light, transform) in points.iter() {
+    for (entity, light, transform, volumetric) in points.iter() {
+        if !selected(fog, volumetric) {
+            continue;
+        }
         let color = rgb(light.color.to_linear()) * (light.intensity * candela);
         let fog_light = FogLight {
             fog_intensity: scattering,
@@ -220,11 +265,15 @@ fn collect_lights(
         };
         found.push((light.shadow_maps_enabled, entity, fog_light));
     }
-    for (entity, light, transform) in spots.iter() {
+    for (entity, light, transform, volumetric) in spots.iter() {
+        if !selected(fog, volumetric) {
+            continue;
+        }
         let color = rgb(light.color.to_linear()) * (light.intensity * candela);
         let fog_light = FogLight {
             fog_intensity: scattering,
             radius: light.radius.max(0.01),
+            flags: FOG_LIGHT_SPOT_SQUARED,
             ..FogLight::spot(
                 vec3(transform.translation()),
                 vec3(*transform.forward()),
@@ -254,16 +303,8 @@ fn collect_lights(
 fn extracted<'a>(
     fog: &FroxelFog,
     scene: &Scene<'_>,
-    suns: impl Iterator<
-        Item = (
-            Entity,
-            &'a DirectionalLight,
-            &'a GlobalTransform,
-            Option<&'a Cascades>,
-            Option<&'a CascadeShadowConfig>,
-        ),
-    >,
-    (lights, light_shadows): (Vec<FogLight>, Vec<ExtractedLightShadow>),
+    suns: impl Iterator<Item = SunItem<'a>>,
+    (mut lights, light_shadows): (Vec<FogLight>, Vec<ExtractedLightShadow>),
     volumes: &[(FroxelFogVolume, Mat4)],
 ) -> Result<ExtractedFroxelFog, InvalidValue> {
     TILE_SIZE.check("FroxelFog.tile_size", fog.tile_size)?;
@@ -286,8 +327,9 @@ fn extracted<'a>(
     limits::FOG_RADIANCE.check("FroxelFog.light_scattering", fog.light_scattering)?;
     limits::FOG_RADIANCE.check("FroxelFog.ambient_scattering", fog.ambient_scattering)?;
 
-    // The sun: the first directional light, with its cascades for this camera when it
-    // casts shadows.
+    // The sun: the first directional light (the first with shadows, if any), with its
+    // cascades for this camera when it casts shadows; the others are directional fog
+    // lights, unshadowed, after the shadowed point and spot lights.
     let mut sun = volfog::uniforms::DirectionalLight {
         color: vg::Vec3::ZERO,
         fog_intensity: 0.0,
@@ -297,9 +339,22 @@ fn extracted<'a>(
         exponent: fog.esm_exponent,
         ..Default::default()
     };
-    let mut suns: Vec<_> = suns.collect();
+    let mut suns: Vec<_> = suns.filter(|(.., v)| selected(fog, *v)).collect();
     suns.sort_by_key(|(entity, light, ..)| (!light.shadow_maps_enabled, *entity));
-    if let Some((_, light, transform, light_cascades, config)) = suns.first() {
+    let others = suns
+        .iter()
+        .skip(1)
+        .map(|(_, light, transform, ..)| FogLight {
+            fog_intensity: fog.sun_scattering,
+            ..FogLight::directional(
+                vec3(-*transform.forward()),
+                rgb(light.color.to_linear()) * (light.illuminance * scene.exposure),
+            )
+        });
+    let at = light_shadows.len().min(lights.len());
+    lights.splice(at..at, others);
+    lights.truncate(limits::MAX_LIGHTS as usize);
+    if let Some((_, light, transform, light_cascades, config, _)) = suns.first() {
         sun.direction = vec3(-*transform.forward());
         sun.color = rgb(light.color.to_linear()) * (light.illuminance * scene.exposure);
         sun.fog_intensity = fog.sun_scattering;
@@ -323,10 +378,19 @@ fn extracted<'a>(
             cascades.count = count as u32;
         }
     }
-    let ambient_radiance = scene
-        .ambient
-        .map(|a| rgb(a.color.to_linear()) * (a.brightness * scene.exposure))
-        .unwrap_or(vg::Vec3::ZERO);
+    let ambient_radiance = match fog.ambient_radiance {
+        Some(radiance) => rgb(radiance) * scene.exposure,
+        None => scene
+            .ambient
+            .map(|a| rgb(a.color.to_linear()) * (a.brightness * scene.exposure))
+            .unwrap_or(vg::Vec3::ZERO),
+    };
+    check(
+        ambient_radiance.is_finite() && ambient_radiance.cmpge(vg::Vec3::ZERO).all(),
+        "FroxelFog.ambient_radiance",
+        ambient_radiance,
+        "finite channels >= 0",
+    )?;
     let ambient = AmbientSh::constant(ambient_radiance * fog.ambient_scattering);
     let tail = if fog.tail {
         let albedo = medium.albedo;

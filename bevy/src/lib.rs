@@ -44,11 +44,15 @@
 //!
 //! Add [`VolumetricFogPlugin`], put [`FroxelFog`] on a `Camera3d` (multisampled or
 //! not) and, if you like, [`FroxelFogVolume`]s in the scene. The fog is lit by the first
-//! `DirectionalLight` through its shadow cascades, by every `PointLight` and
-//! `SpotLight` (those with shadows through Bevy's own shadow maps, within
-//! [`FroxelFog`]'s budget), and by the `GlobalAmbientLight`; it is applied to the opaque scene
+//! shadowed `DirectionalLight` through its shadow cascades and by the other directional
+//! lights unshadowed, by every `PointLight` and `SpotLight` (those with shadows through
+//! Bevy's own shadow maps, within [`FroxelFog`]'s budget; spot cones as on Bevy's
+//! surfaces), and by the `GlobalAmbientLight`; [`FroxelFog::lights`] can restrict it to
+//! the lights with `VolumetricLight`, as Bevy's fog. It is applied to the opaque scene
 //! after Bevy's opaque pass, and transparent materials apply it themselves by
-//! importing the `volfog` WESL package (see [`FoggedGlassMaterial`]).
+//! importing the `volfog` WESL package (see [`FoggedGlassMaterial`]). A scene written
+//! for Bevy's `VolumetricFog` and `FogVolume` renders with volfog under
+//! [`BevyFogCompat`].
 //!
 //! ```no_run
 //! use bevy::prelude::*;
@@ -65,6 +69,7 @@
 //! # app.add_plugins(VolumetricFogPlugin).add_systems(Startup, setup);
 //! ```
 
+mod compat;
 mod extract;
 mod light_shadows;
 pub mod material;
@@ -80,11 +85,14 @@ use bevy::pbr::MaterialPlugin;
 use bevy::prelude::*;
 use bevy::render::{Render, RenderApp, RenderSystems};
 
+pub use compat::{BevyFogCompat, FromBevyFog, froxel_fog, froxel_fog_volume};
 pub use extract::{ExtractedFroxelFog, MAX_VOLUMES, TILE_SIZE};
 pub use light_shadows::{ExtractedLightShadow, light_shadow_resolution};
 pub use material::FoggedGlassMaterial;
 pub use render::{FogViews, ViewFog};
-pub use settings::{FogMediumSettings, FogVolumeShape, FroxelFog, FroxelFogVolume};
+pub use settings::{
+    FogLightSelection, FogMediumSettings, FogVolumeShape, FroxelFog, FroxelFogVolume,
+};
 pub use volfog;
 
 /// Froxel volumetric fog for every camera with [`FroxelFog`], the `volfog` WESL

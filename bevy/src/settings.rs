@@ -6,11 +6,13 @@ use bevy::prelude::*;
 /// Froxel volumetric fog for a 3D camera: add it next to `Camera3d`. The fog is
 /// computed in a volume of froxels (screen tiles x depth slices) from the camera's
 /// near fog plane to `far`, lit by the first shadow-casting `DirectionalLight` (through
-/// its shadow cascades), the `PointLight`s and `SpotLight`s (the first 64 found, those
-/// with `shadow_maps_enabled` first; up to `point_shadows` and `spot_shadows` of them
-/// through Bevy's own shadow maps) and the global ambient light, and applied to the
-/// opaque scene before the transparent pass and tonemapping. Beyond `far` an analytic
-/// height-fog tail continues it.
+/// its shadow cascades) and the other `DirectionalLight`s (unshadowed), the
+/// `PointLight`s and `SpotLight`s (the first 64 found, those with `shadow_maps_enabled`
+/// first; up to `point_shadows` and `spot_shadows` of them through Bevy's own shadow
+/// maps; spot cones fall off as on Bevy's surfaces) and the global ambient light, and
+/// applied to the opaque scene before the transparent pass and tonemapping. Beyond
+/// `far` an analytic height-fog tail continues it. `lights` chooses between every light
+/// and those with Bevy's `VolumetricLight`.
 ///
 /// Values out of range switch the fog off for this camera with one warning naming
 /// the field and its range.
@@ -50,6 +52,12 @@ pub struct FroxelFog {
     pub light_scattering: f32,
     /// Scale of the global ambient light in the fog, >= 0.
     pub ambient_scattering: f32,
+    /// Which lights light the fog: every light (the default), or as Bevy's own
+    /// volumetric fog only those with a `VolumetricLight` component.
+    pub lights: FogLightSelection,
+    /// The ambient radiance lighting the fog (linear rgb, before the camera's
+    /// exposure), or `None` for the `GlobalAmbientLight`'s `color * brightness`.
+    pub ambient_radiance: Option<LinearRgba>,
     /// Exponent of the sun's exponential shadow map in the fog, filtered in log space
     /// (`volfog::limits::ESM_EXPONENT_LOG_SPACE`, (0, 1e4]): larger is sharper, with
     /// less light leaking behind occluders, at depths relative to each cascade's
@@ -87,12 +95,26 @@ impl Default for FroxelFog {
             sun_scattering: 1.0,
             light_scattering: 1.0,
             ambient_scattering: 1.0,
+            lights: FogLightSelection::All,
+            ambient_radiance: None,
             esm_exponent: 300.0,
             spot_shadows: local.spot_shadows,
             point_shadows: local.point_shadows,
             light_shadow_exponent: local.exponent,
         }
     }
+}
+
+/// Which of the scene's lights light a [`FroxelFog`] ([`FroxelFog::lights`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum FogLightSelection {
+    /// Every `DirectionalLight`, `PointLight` and `SpotLight`.
+    #[default]
+    All,
+    /// Only the lights with a `VolumetricLight` component, as Bevy's `VolumetricFog`
+    /// (the fog's light shafts come from chosen lights; the others light surfaces
+    /// only).
+    Volumetric,
 }
 
 /// The participating medium of a [`FroxelFog`]: exponential height fog with animated

@@ -23,12 +23,10 @@ mod scene;
 use std::sync::OnceLock;
 
 use bevy::prelude::*;
-use bevy::render::RenderApp;
-use bevy::render::renderer::{RenderAdapter, RenderAdapterInfo, RenderDevice, RenderQueue};
-use scene::{FogKind, GlassSphere, SceneCamera, SceneOptions, Sun};
+use scene::{FogKind, GlassSphere, SceneCamera, SceneOptions, Sun, Volume, read_volume};
 use volfog::cpu::density::medium_light_transmittance;
 use volfog::glam as vg;
-use volfog_bevy::{ExtractedFroxelFog, FogViews, FoggedGlassMaterial, FroxelFog};
+use volfog_bevy::{FoggedGlassMaterial, FroxelFog};
 
 const W: u32 = 320;
 const H: u32 = 180;
@@ -54,41 +52,6 @@ struct Renders {
     volume: Volume,
     volume_unshadowed: Volume,
     options: SceneOptions,
-}
-
-/// A fog view's integrated volume read back, with the fog it was computed for.
-struct Volume {
-    texels: Vec<Vec4>,
-    fog: ExtractedFroxelFog,
-}
-
-/// Reads the integrated volume (rgba16float) of the app's fog camera.
-fn read_volume(app: &App) -> Volume {
-    let world = app.sub_app(RenderApp).world();
-    let fogs = world.resource::<FogViews>();
-    let texture = fogs.primary().expect("a fog view").fog.integrated_texture();
-    // Bevy's device, queue and adapter, with volfog's GPU test helpers.
-    let gpu = volfog_testkit::gpu::Gpu {
-        adapter: (**world.resource::<RenderAdapter>()).clone(),
-        device: world.resource::<RenderDevice>().wgpu_device().clone(),
-        queue: (**world.resource::<RenderQueue>()).clone(),
-        info: (**world.resource::<RenderAdapterInfo>()).clone(),
-    };
-    let bytes = gpu
-        .read_texture_raw(texture, 8)
-        .expect("read the integrated volume");
-    let texels = bytes
-        .chunks_exact(8)
-        .map(|p| {
-            let h = |i: usize| half::f16::from_le_bytes([p[2 * i], p[2 * i + 1]]).to_f32();
-            Vec4::new(h(0), h(1), h(2), h(3))
-        })
-        .collect();
-    let mut views = world
-        .try_query::<&ExtractedFroxelFog>()
-        .expect("registered");
-    let fog = views.iter(world).next().expect("an extracted fog").clone();
-    Volume { texels, fog }
 }
 
 const GLASS: LinearRgba = LinearRgba::new(0.6, 0.75, 0.8, 1.0);

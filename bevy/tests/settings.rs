@@ -7,61 +7,14 @@
 
 #[path = "../examples/fog_scene/scene.rs"]
 mod scene;
+#[path = "support/warnings.rs"]
+mod warnings;
 
-use std::sync::{Arc, Mutex, OnceLock};
-
-use bevy::log::tracing::{Event, Level, Subscriber, field::Field, field::Visit};
-use bevy::log::tracing_subscriber::layer::{Context, Layer, SubscriberExt};
-use bevy::log::tracing_subscriber::registry::Registry;
 use bevy::prelude::*;
 use bevy::render::RenderApp;
 use scene::{FogKind, SceneCamera, SceneOptions};
 use volfog_bevy::{ExtractedFroxelFog, FogViews, FroxelFog};
-
-/// Collects the messages of WARN events.
-#[derive(Clone, Default)]
-struct Warnings(Arc<Mutex<Vec<String>>>);
-
-struct Message(String);
-
-impl Visit for Message {
-    fn record_debug(&mut self, field: &Field, value: &dyn std::fmt::Debug) {
-        if field.name() == "message" {
-            self.0 = format!("{value:?}");
-        }
-    }
-}
-
-impl<S: Subscriber> Layer<S> for Warnings {
-    fn on_event(&self, event: &Event<'_>, _: Context<'_, S>) {
-        if *event.metadata().level() == Level::WARN {
-            let mut message = Message(String::new());
-            event.record(&mut message);
-            self.0.lock().unwrap().push(message.0);
-        }
-    }
-}
-
-fn warnings() -> &'static Warnings {
-    static WARNINGS: OnceLock<Warnings> = OnceLock::new();
-    WARNINGS.get_or_init(|| {
-        let w = Warnings::default();
-        bevy::log::tracing::subscriber::set_global_default(Registry::default().with(w.clone()))
-            .expect("the first subscriber");
-        w
-    })
-}
-
-fn volfog_warnings() -> Vec<String> {
-    warnings()
-        .0
-        .lock()
-        .unwrap()
-        .iter()
-        .filter(|m| m.contains("volfog"))
-        .cloned()
-        .collect()
-}
+use warnings::{volfog_warnings, warnings};
 
 fn camera_entity(app: &mut App) -> Entity {
     let world = app.world_mut();

@@ -16,13 +16,14 @@ use bevy::light::{
     CascadeShadowConfigBuilder, FogVolume, GlobalAmbientLight, VolumetricFog, VolumetricLight,
 };
 use bevy::prelude::*;
-use bevy::render::RenderPlugin;
 use bevy::render::gpu_readback::{Readback, ReadbackComplete};
 use bevy::render::render_resource::{Extent3d, TextureDimension, TextureFormat, TextureUsages};
+use bevy::render::renderer::{RenderAdapter, RenderAdapterInfo, RenderDevice, RenderQueue};
 use bevy::render::settings::{RenderCreation, WgpuSettings};
+use bevy::render::{RenderApp, RenderPlugin};
 use volfog_bevy::{
-    FogMediumSettings, FogVolumeShape, FoggedGlassMaterial, FroxelFog, FroxelFogVolume,
-    VolumetricFogPlugin,
+    BevyFogCompat, ExtractedFroxelFog, FogMediumSettings, FogViews, FogVolumeShape,
+    FoggedGlassMaterial, FroxelFog, FroxelFogVolume, VolumetricFogPlugin,
 };
 
 /// The camera's exposure (EV100); light intensities below are chosen for it.
@@ -46,6 +47,8 @@ pub enum FogKind {
     Froxel,
     /// Bevy's built-in ray-marched `VolumetricFog` in a `FogVolume` around the scene.
     BevyBuiltIn,
+    /// The same components, rendered by volfog under `BevyFogCompat`.
+    BevyCompat,
 }
 
 /// How to build the scene.
@@ -264,6 +267,9 @@ pub fn app(options: &SceneOptions) -> App {
     if options.gpu_timings {
         app.add_plugins(bevy::render::diagnostic::RenderDiagnosticsPlugin);
     }
+    if options.fog == FogKind::BevyCompat {
+        app.add_plugins(BevyFogCompat);
+    }
     while app.plugins_state() == PluginsState::Adding {
         bevy::tasks::tick_global_task_pools_on_main_thread();
     }
@@ -465,11 +471,11 @@ fn spawn(
         FogKind::Froxel => {
             camera.insert(fog_settings(options));
         }
-        FogKind::BevyBuiltIn => {
+        FogKind::BevyBuiltIn | FogKind::BevyCompat => {
             camera.insert(VolumetricFog::default());
         }
     }
-    if options.fog == FogKind::BevyBuiltIn {
+    if matches!(options.fog, FogKind::BevyBuiltIn | FogKind::BevyCompat) {
         // Bevy's fog lives in volumes: one box around the scene, with the extinction,
         // albedo and phase asymmetry of ours at the ground (Bevy's extinction is
         // density_factor * (absorption + scattering)).
@@ -484,6 +490,41 @@ fn spawn(
             Transform::from_xyz(0.0, 10.0, -20.0).with_scale(Vec3::new(120.0, 20.0, 120.0)),
         ));
     }
+}
+
+/// A fog view's integrated volume read back, with the fog it was computed for.
+pub struct Volume {
+    pub texels: Vec<Vec4>,
+    pub fog: ExtractedFroxelFog,
+}
+
+/// Reads the integrated volume (rgba16float) of the app's fog camera.
+pub fn read_volume(app: &App) -> Volume {
+    let world = app.sub_app(RenderApp).world();
+    let fogs = world.resource::<FogViews>();
+    let texture = fogs.primary().expect("a fog view").fog.integrated_texture();
+    // Bevy's device, queue and adapter, with volfog's GPU test helpers.
+    let gpu = volfog_testkit::gpu::Gpu {
+        adapter: (**world.resource::<RenderAdapter>()).clone(),
+        device: world.resource::<RenderDevice>().wgpu_device().clone(),
+        queue: (**world.resource::<RenderQueue>()).clone(),
+        info: (**world.resource::<RenderAdapterInfo>()).clone(),
+    };
+    let bytes = gpu
+        .read_texture_raw(texture, 8)
+        .expect("read the integrated volume");
+    let texels = bytes
+        .chunks_exact(8)
+        .map(|p| {
+            let h = |i: usize| half::f16::from_le_bytes([p[2 * i], p[2 * i + 1]]).to_f32();
+            Vec4::new(h(0), h(1), h(2), h(3))
+        })
+        .collect();
+    let mut views = world
+        .try_query::<&ExtractedFroxelFog>()
+        .expect("registered");
+    let fog = views.iter(world).next().expect("an extracted fog").clone();
+    Volume { texels, fog }
 }
 
 /// Runs frames until a read-back of the target arrives (after `warmup` frames), and

@@ -1,0 +1,341 @@
+//! The plugin as a drop-in for Bevy's fog, on the `fog_scene` scene at 160 x 90 (noise
+//! and temporal off, so frames repeat exactly):
+//!
+//! - every light: a second `DirectionalLight` lights the fog (unshadowed, as a
+//!   directional fog light), linearly in its illuminance; spot lights take Bevy's cone;
+//!   `FogLightSelection::Volumetric` keeps only the lights with `VolumetricLight`;
+//! - Bevy's own components: a camera with Bevy's `VolumetricFog` and the scene's
+//!   `FogVolume` render, under `BevyFogCompat`, the image of the `FroxelFog` and
+//!   `FroxelFogVolume` they map to, with fog in it and no Bevy volumetric view in the
+//!   render world (while Bevy's own pass, without `BevyFogCompat`, changes the image);
+//!   what volfog does not take warns once, naming the field.
+
+#[path = "../examples/fog_scene/scene.rs"]
+mod scene;
+#[path = "support/warnings.rs"]
+mod warnings;
+
+use bevy::camera::Exposure;
+use bevy::light::{FogVolume, VolumetricFog, VolumetricLight};
+use bevy::prelude::*;
+use bevy::render::RenderApp;
+use scene::{FogKind, SceneCamera, SceneOptions, Sun, read_volume};
+use volfog::uniforms::{FOG_LIGHT_DIRECTIONAL, FOG_LIGHT_SPOT_SQUARED};
+use volfog_bevy::{
+    ExtractedFroxelFog, FogLightSelection, FromBevyFog, FroxelFog, FroxelFogVolume, froxel_fog,
+    froxel_fog_volume,
+};
+use warnings::{volfog_warnings, warnings};
+
+fn options(fog: FogKind) -> SceneOptions {
+    SceneOptions {
+        width: 160,
+        height: 90,
+        fog,
+        noise: false,
+        temporal: false,
+        gpu_timings: false,
+    }
+}
+
+fn extracted(app: &mut App) -> ExtractedFroxelFog {
+    let world = app.sub_app_mut(RenderApp).world_mut();
+    let mut q = world.query::<&ExtractedFroxelFog>();
+    q.iter(world).next().expect("an extracted fog").clone()
+}
+
+fn camera_of(app: &mut App) -> Entity {
+    let world = app.world_mut();
+    let mut q = world.query_filtered::<Entity, With<SceneCamera>>();
+    q.single(world).unwrap()
+}
+
+fn set_fog(app: &mut App, change: impl FnOnce(&mut FroxelFog)) {
+    let camera = camera_of(app);
+    let mut fog = app.world_mut().get_mut::<FroxelFog>(camera).unwrap();
+    change(&mut fog);
+}
+
+fn frames(app: &mut App, n: u32) {
+    for _ in 0..n {
+        app.update();
+    }
+}
+
+const MOON: Vec3 = Vec3::new(0.6, 0.5, 0.62);
+
+/// A second, unshadowed directional light from the other side of the sky, of
+/// illuminance `lux`.
+fn moon(lux: f32) -> DirectionalLight {
+    DirectionalLight {
+        color: Color::linear_rgb(0.55, 0.65, 1.0),
+        illuminance: lux,
+        shadow_maps_enabled: false,
+        ..default()
+    }
+}
+
+/// The integrated volume's last slice (the fog in front of everything), rgb.
+fn far_slice(app: &App) -> Vec<Vec3> {
+    let volume = read_volume(app);
+    let size = volume.fog.config.volume_size;
+    let slice = (size.x * size.y) as usize;
+    let start = (size.z as usize - 1) * slice;
+    volume.texels[start..start + slice]
+        .iter()
+        .map(|t| t.truncate())
+        .collect()
+}
+
+#[test]
+fn every_light_lights_the_fog() {
+    let mut app = scene::app(&options(FogKind::Froxel));
+    frames(&mut app, 4);
+    let without = far_slice(&app);
+    let before = extracted(&mut app);
+    assert!(
+        before
+            .lights
+            .iter()
+            .all(|l| l.flags & FOG_LIGHT_DIRECTIONAL == 0),
+        "no directional fog light before the moon rises"
+    );
+    let spots: Vec<_> = before
+        .lights
+        .iter()
+        .filter(|l| l.cos_outer > -1.0)
+        .collect();
+    assert_eq!(spots.len(), 2, "the scene's two spot lights");
+    assert!(
+        spots.iter().all(|l| l.flags == FOG_LIGHT_SPOT_SQUARED),
+        "spot lights take Bevy's cone falloff"
+    );
+
+    // The moon: a second directional light, unshadowed, from the other side.
+    let lux = 2500.0;
+    let toward = MOON.normalize();
+    let moon_entity = app
+        .world_mut()
+        .spawn((moon(lux), Transform::IDENTITY.looking_to(-toward, Vec3::Y)))
+        .id();
+    frames(&mut app, 4);
+    let lit = far_slice(&app);
+    let fog = extracted(&mut app);
+    let exposure = Exposure {
+        ev100: scene::EV100,
+    }
+    .exposure();
+    let directional: Vec<_> = fog.lights.iter().filter(|l| l.is_directional()).collect();
+    assert_eq!(
+        directional.len(),
+        1,
+        "the moon is one directional fog light"
+    );
+    let m = directional[0];
+    let want = Vec3::new(0.55, 0.65, 1.0) * lux * exposure;
+    let got = Vec3::from_array(m.color.to_array());
+    assert!(
+        (got - want).length() <= 1e-4 * want.length(),
+        "{got} {want}"
+    );
+    let direction = Vec3::from_array(m.direction.to_array());
+    assert!(
+        (direction + toward).length() < 1e-4,
+        "{direction} travels away from the moon"
+    );
+    assert_eq!(
+        m.fog_intensity,
+        scene::fog_settings(&options(FogKind::Froxel)).sun_scattering
+    );
+    assert_eq!(
+        fog.sun.color, before.sun.color,
+        "the shadowed sun stays volfog's sun"
+    );
+
+    // Twice the illuminance scatters twice the moon's light into the fog.
+    app.world_mut()
+        .get_mut::<DirectionalLight>(moon_entity)
+        .unwrap()
+        .illuminance = 2.0 * lux;
+    frames(&mut app, 4);
+    let doubled = far_slice(&app);
+    let (mut added, mut ratios) = (0usize, Vec::new());
+    for ((w, l), d) in without.iter().zip(&lit).zip(&doubled) {
+        let (one, two) = ((*l - *w).element_sum(), (*d - *w).element_sum());
+        if one > 1e-3 * w.element_sum().max(1e-3) {
+            added += 1;
+        }
+        if one > 0.02 * w.element_sum() {
+            ratios.push(two / one);
+        }
+    }
+    ratios.sort_by(f32::total_cmp);
+    let median = ratios[ratios.len() / 2];
+    let (lo, hi) = (ratios[ratios.len() / 20], ratios[ratios.len() * 19 / 20]);
+    eprintln!(
+        "moon: {added} of {} far-slice texels brighter; doubled / single illuminance: \
+         median {median:.4}, 5-95 % {lo:.4}..{hi:.4} over {} texels (bound 2 +- 0.05)",
+        without.len(),
+        ratios.len()
+    );
+    assert!(
+        added * 10 > without.len() * 9,
+        "the moon lights the fog everywhere"
+    );
+    assert!((median - 2.0).abs() < 0.05 && lo > 1.9 && hi < 2.1);
+
+    // Only the lights with VolumetricLight: the sun (which has it in the scene), not the
+    // point and spot lights nor the moon, until the moon gets it.
+    set_fog(&mut app, |f| f.lights = FogLightSelection::Volumetric);
+    frames(&mut app, 2);
+    let volumetric = extracted(&mut app);
+    assert!(volumetric.lights.is_empty(), "{:?}", volumetric.lights);
+    assert_eq!(volumetric.sun.color, before.sun.color);
+    app.world_mut()
+        .entity_mut(moon_entity)
+        .insert(VolumetricLight);
+    frames(&mut app, 2);
+    let volumetric = extracted(&mut app);
+    assert_eq!(volumetric.lights.len(), 1);
+    assert!(volumetric.lights[0].is_directional());
+    // Without VolumetricLight on the sun either, the moon becomes the sun.
+    let world = app.world_mut();
+    let mut suns = world.query_filtered::<Entity, With<Sun>>();
+    let sun = suns.single(world).unwrap();
+    world.entity_mut(sun).remove::<VolumetricLight>();
+    frames(&mut app, 2);
+    let only_moon = extracted(&mut app);
+    assert!(only_moon.lights.is_empty());
+    assert_eq!(only_moon.cascades.count, 0, "the moon casts no shadows");
+    let sun_color = Vec3::from_array(only_moon.sun.color.to_array());
+    assert!((sun_color - 2.0 * want).length() <= 1e-4 * want.length());
+}
+
+/// Mean over pixels of |a - b| / max(|b|, 1e-3) (luminance-like sum of rgb).
+fn mean_relative(a: &[Vec4], b: &[Vec4]) -> f32 {
+    let sum: f32 = a
+        .iter()
+        .zip(b)
+        .map(|(a, b)| {
+            let (a, b) = (a.truncate().element_sum(), b.truncate().element_sum());
+            (a - b).abs() / b.abs().max(1e-3)
+        })
+        .sum();
+    sum / a.len() as f32
+}
+
+#[test]
+fn bevy_volumetric_fog_renders_with_volfog() {
+    warnings();
+    // Bevy's components under BevyFogCompat.
+    let mut compat = scene::app(&options(FogKind::BevyCompat));
+    let image = scene::capture(&mut compat, 8);
+    let camera = camera_of(&mut compat);
+    assert!(
+        compat.world().get::<FromBevyFog>(camera).is_some(),
+        "the camera's FroxelFog comes from its VolumetricFog"
+    );
+    let render = compat.sub_app_mut(RenderApp).world_mut();
+    let mut views = render.query_filtered::<Entity, With<VolumetricFog>>();
+    let bevy_views = views.iter(render).count();
+    assert_eq!(bevy_views, 0, "no view runs Bevy's volumetric pass");
+    let fog = extracted(&mut compat);
+    let volume = FogVolume {
+        density_factor: 0.035,
+        absorption: 0.1,
+        scattering: 0.9,
+        scattering_asymmetry: 0.7,
+        ..default()
+    };
+    assert!((fog.medium.phase_g - 0.7).abs() < 1e-6);
+    assert!((fog.medium.albedo.x - 0.9).abs() < 1e-6);
+    assert_eq!(fog.medium.density, 0.0, "no fog outside the volumes");
+    assert!(
+        fog.volumes.iter().any(|v| (v.density - 0.035).abs() < 1e-6),
+        "the FogVolume is a froxel volume of extinction 0.035 / m"
+    );
+    assert!(
+        fog.lights.is_empty(),
+        "the scene's point and spot lights have no VolumetricLight"
+    );
+
+    // The FroxelFog and FroxelFogVolume the components map to, set by hand on a scene
+    // without fog: the same image, so no other fog was drawn.
+    // The fog goes on in the first frame's PostUpdate, as BevyFogCompat's does, so the
+    // temporal history of both runs has the same frames.
+    let mut by_hand = scene::app(&options(FogKind::None));
+    let exposure = Exposure {
+        ev100: scene::EV100,
+    }
+    .exposure();
+    let fog_by_hand = froxel_fog(&VolumetricFog::default(), Some(&volume), exposure);
+    by_hand.add_systems(
+        PostUpdate,
+        move |mut commands: Commands,
+              cameras: Query<Entity, (With<SceneCamera>, Without<FroxelFog>)>| {
+            for camera in &cameras {
+                commands.entity(camera).insert(fog_by_hand.clone());
+            }
+        },
+    );
+    by_hand.world_mut().spawn((
+        froxel_fog_volume(&volume),
+        Transform::from_xyz(0.0, 10.0, -20.0).with_scale(Vec3::new(120.0, 20.0, 120.0)),
+    ));
+    let expected = scene::capture(&mut by_hand, 8);
+    let unfogged = {
+        let mut app = scene::app(&options(FogKind::None));
+        scene::capture(&mut app, 8)
+    };
+    // Bevy's own pass, which BevyFogCompat leaves out: a different image.
+    let bevy_pass = {
+        let mut app = scene::app(&options(FogKind::BevyBuiltIn));
+        scene::capture(&mut app, 8)
+    };
+    let by_bevy = mean_relative(&bevy_pass, &expected);
+    let same = mean_relative(&image, &expected);
+    let worst = image
+        .iter()
+        .zip(&expected)
+        .map(|(a, b)| {
+            (*a - *b).truncate().abs().max_element() / b.truncate().max_element().max(1e-3)
+        })
+        .fold(0.0f32, f32::max);
+    let fogged = mean_relative(&image, &unfogged);
+    eprintln!(
+        "BevyFogCompat vs the FroxelFog it maps to: mean relative difference {same:e}, \
+         worst {worst:e} (bounds 1e-3, 1e-2); vs no fog {fogged:.3} (> 0.05); Bevy's own \
+         pass vs the FroxelFog {by_bevy:.3} (> 0.05)"
+    );
+    assert!(same < 1e-3 && worst < 1e-2);
+    assert!(fogged > 0.05, "the image has fog");
+    assert!(by_bevy > 0.05, "Bevy's pass would change the image");
+
+    // A second volume with another colour and a density texture: one warning for each
+    // field, however many frames.
+    let before = volfog_warnings().len();
+    compat.world_mut().spawn((
+        FogVolume {
+            fog_color: Color::linear_rgb(1.0, 0.2, 0.2),
+            density_texture: Some(Handle::default()),
+            ..volume.clone()
+        },
+        Transform::from_xyz(0.0, 2.0, -12.0).with_scale(Vec3::splat(4.0)),
+    ));
+    frames(&mut compat, 3);
+    let new = volfog_warnings()[before..].to_vec();
+    eprintln!("{new:#?}");
+    for field in ["FogVolume.fog_color", "FogVolume.density_texture"] {
+        let count = new.iter().filter(|m| m.contains(field)).count();
+        assert_eq!(count, 1, "one warning naming {field}: {new:?}");
+    }
+    assert_eq!(new.len(), 2, "{new:?}");
+    assert!(image.iter().all(|p| p.is_finite()));
+    let world = by_hand.world_mut();
+    let mut volumes = world.query::<&FroxelFogVolume>();
+    assert_eq!(
+        volumes.iter(world).count(),
+        2,
+        "the scene's pocket and the box"
+    );
+}
