@@ -439,6 +439,8 @@ fn extracted<'a>(
         jitter: fog.temporal,
         temporal: fog.temporal,
         history_weight: fog.history_weight,
+        amortize: fog.amortize && fog.temporal,
+        noise_texture: fog.noise_texture,
         light_transmittance: fog.light_transmittance,
         // Bevy's point light cubes and spot light maps (in the directional light
         // texture), filtered into volfog's local-light atlas.

@@ -339,3 +339,61 @@ fn bevy_volumetric_fog_renders_with_volfog() {
         "the scene's pocket and the box"
     );
 }
+
+/// Per-pixel relative differences of two images (sum of rgb), sorted.
+fn relative_differences(a: &[Vec4], b: &[Vec4]) -> Vec<f32> {
+    let mut d: Vec<f32> = a
+        .iter()
+        .zip(b)
+        .map(|(a, b)| {
+            let (a, b) = (a.truncate().element_sum(), b.truncate().element_sum());
+            (a - b).abs() / b.abs().max(1e-3)
+        })
+        .collect();
+    d.sort_by(f32::total_cmp);
+    d
+}
+
+/// The plugin's default cheap path (amortised injection and depth culling) against the
+/// full path: the same image within a stated bound once the history has settled; and
+/// the baked noise texture (off by default), whose different noise pattern changes the
+/// image more. Noise on, wind off (the noise then does not depend on the apps'
+/// wall-clock time), temporal on, 40 frames.
+#[test]
+fn the_default_cheap_path_holds_the_image() {
+    let options = SceneOptions {
+        noise: true,
+        temporal: true,
+        ..options(FogKind::Froxel)
+    };
+    let run = |change: fn(&mut FroxelFog)| {
+        let mut app = scene::app(&options);
+        app.update();
+        set_fog(&mut app, |f| {
+            f.medium.wind = Vec3::ZERO;
+            change(f);
+        });
+        let image = scene::capture(&mut app, 40);
+        let config = extracted(&mut app).config;
+        (image, config)
+    };
+    let (cheap, cheap_config) = run(|_| {});
+    let (full, full_config) = run(|f| f.amortize = false);
+    let (baked, baked_config) = run(|f| f.noise_texture = true);
+    assert!(cheap_config.amortize && cheap_config.depth_cull && !cheap_config.noise_texture);
+    assert!(!full_config.amortize && baked_config.noise_texture);
+    let figures = |d: &[f32]| {
+        let mean = d.iter().sum::<f32>() / d.len() as f32;
+        (d[d.len() / 2], d[d.len() * 95 / 100], mean)
+    };
+    let (median, p95, mean) = figures(&relative_differences(&cheap, &full));
+    let (b_median, b_p95, b_mean) = figures(&relative_differences(&baked, &cheap));
+    eprintln!(
+        "default (amortised) vs full injection, 160x90 after 40 frames: relative \
+         difference median {median:.2e}, p95 {p95:.2e}, mean {mean:.2e} (bounds: mean \
+         2e-2, p95 5e-2); noise texture vs computed noise: median {b_median:.2e}, p95 \
+         {b_p95:.2e}, mean {b_mean:.2e}"
+    );
+    assert!(mean < 2e-2 && p95 < 5e-2);
+    assert!(b_mean > 0.0, "the noise texture is read");
+}
