@@ -12,6 +12,16 @@
 //! | `light_intensity` | `sun_scattering` and `light_scattering` |
 //! | `VolumetricFog.ambient_color * ambient_intensity` | `ambient_radiance` (divided by the camera's exposure: Bevy adds it after exposure) |
 //! | `VolumetricLight` on lights | `FogLightSelection::Volumetric`: only those lights light the fog |
+//! | `DistanceFog`, `FogFalloff::Exponential { density }`, opaque `color` | the medium: `density`, emission `color * density` (divided by the exposure), the analytic tail beyond `far` |
+//!
+//! Bevy's exponential distance fog, `mix(surface, color, 1 - exp(-density d))`, is the
+//! light of a uniform medium of extinction `density` that emits `color * density` and
+//! scatters nothing: volfog renders it exactly, in the froxels and in the tail, and
+//! Bevy's own distance fog is switched off for that camera. Other falloffs, a
+//! translucent `color` and a `directional_light_color` keep Bevy's own distance fog,
+//! with one warning naming the field. With `VolumetricFog` on the same camera the
+//! distance fog's medium scatters the lights with the volumes' albedo. Unlike Bevy's,
+//! volfog's distance fog also covers the sky (the tail reaches infinity).
 //!
 //! Outside the volumes there is no fog (the medium's density is 0, no tail), as in
 //! Bevy. volfog's medium has one albedo and one phase: the volumes' values are taken
@@ -25,8 +35,10 @@ use std::collections::HashSet;
 
 use bevy::camera::Exposure;
 use bevy::light::{FogVolume, VolumetricFog};
+use bevy::pbr::{DistanceFog, FogFalloff};
 use bevy::prelude::*;
-use bevy::render::{Render, RenderApp, RenderSystems};
+use bevy::render::sync_world::RenderEntity;
+use bevy::render::{Extract, ExtractSchedule, Render, RenderApp, RenderSystems};
 
 use crate::settings::{
     FogLightSelection, FogMediumSettings, FogVolumeShape, FroxelFog, FroxelFogVolume,
@@ -34,7 +46,8 @@ use crate::settings::{
 
 /// Renders Bevy's `VolumetricFog` cameras and `FogVolume`s with volfog (add it next to
 /// [`VolumetricFogPlugin`](crate::VolumetricFogPlugin)). Bevy's own volumetric pass
-/// then runs for no camera.
+/// then runs for no camera, and Bevy's materials leave out an exponential
+/// `DistanceFog` that volfog renders instead.
 ///
 /// A plugin rather than the default: Bevy's fog and volfog's have different lighting
 /// models (Bevy's ambient term is added per ray, its light is attenuated by the
@@ -61,12 +74,14 @@ impl Plugin for BevyFogCompat {
     fn build(&self, app: &mut App) {
         app.add_systems(PostUpdate, (sync_fog_volumes, sync_fog_cameras));
         if let Some(render_app) = app.get_sub_app_mut(RenderApp) {
-            render_app.add_systems(
-                Render,
-                drop_bevy_volumetric_fog
-                    .after(RenderSystems::ExtractCommands)
-                    .before(RenderSystems::PrepareAssets),
-            );
+            render_app
+                .add_systems(ExtractSchedule, extract_distance_fog_marks)
+                .add_systems(
+                    Render,
+                    drop_bevy_fog
+                        .after(RenderSystems::ExtractCommands)
+                        .before(RenderSystems::PrepareAssets),
+                );
         }
     }
 }
@@ -75,6 +90,61 @@ impl Plugin for BevyFogCompat {
 /// components (it follows them, and goes with them).
 #[derive(Component, Clone, Copy, Debug, Default)]
 pub struct FromBevyFog;
+
+/// Marks a camera whose `DistanceFog` volfog renders (Bevy's own is off for it).
+#[derive(Component, Clone, Copy, Debug, Default)]
+pub struct FromDistanceFog;
+
+/// The render world's mark of a view whose `DistanceFog` Bevy leaves out.
+#[derive(Component, Clone, Copy)]
+struct DropDistanceFog;
+
+/// The medium density and emission (before exposure) of a Bevy `DistanceFog` that
+/// volfog renders exactly, or the field that keeps it Bevy's.
+pub fn distance_fog_medium(
+    fog: &DistanceFog,
+    exposure: f32,
+) -> Result<(f32, LinearRgba), &'static str> {
+    let FogFalloff::Exponential { density } = fog.falloff else {
+        return Err("DistanceFog.falloff");
+    };
+    let color = fog.color.to_linear();
+    if color.alpha < 1.0 {
+        return Err("DistanceFog.color");
+    }
+    if fog.directional_light_color.alpha() > 0.0 {
+        return Err("DistanceFog.directional_light_color");
+    }
+    let e = density / exposure.max(1e-12);
+    Ok((
+        density,
+        LinearRgba::rgb(color.red * e, color.green * e, color.blue * e),
+    ))
+}
+
+/// The `FroxelFog` of a camera with only Bevy's `DistanceFog` (exponential): the medium
+/// glows and scatters nothing.
+pub fn distance_froxel_fog(density: f32, emission: LinearRgba) -> FroxelFog {
+    FroxelFog {
+        medium: FogMediumSettings {
+            density,
+            albedo: LinearRgba::BLACK,
+            height_falloff: 0.0,
+            phase_g: 0.0,
+            noise_strength: 0.0,
+            emission,
+            ..default()
+        },
+        tail: true,
+        // Bevy's distance fog starts at the eye: the froxels from Bevy's default near
+        // plane (0.1 m), leaving out 0.1 m of it instead of 0.5.
+        near: DISTANCE_FOG_NEAR,
+        ..FroxelFog::default()
+    }
+}
+
+/// Where the froxels of a mapped `DistanceFog` start (m): Bevy's default near plane.
+pub const DISTANCE_FOG_NEAR: f32 = 0.1;
 
 /// The `FroxelFogVolume` of a Bevy `FogVolume`.
 pub fn froxel_fog_volume(volume: &FogVolume) -> FroxelFogVolume {
@@ -213,45 +283,111 @@ fn sync_fog_volumes(
     }
 }
 
-/// Gives every camera with Bevy's `VolumetricFog` (and no `FroxelFog` of its own) the
-/// `FroxelFog` it maps to, and takes it away with the `VolumetricFog`.
+/// Gives every camera with Bevy's `VolumetricFog` or an exponential `DistanceFog` (and
+/// no `FroxelFog` of its own) the `FroxelFog` they map to, and takes it away with them.
 #[allow(clippy::type_complexity)]
 fn sync_fog_cameras(
     mut commands: Commands,
     cameras: Query<(
         Entity,
         Option<&VolumetricFog>,
+        Option<&DistanceFog>,
         Option<&FroxelFog>,
         Has<FromBevyFog>,
+        Has<FromDistanceFog>,
         Option<&Exposure>,
     )>,
     volumes: Query<(Entity, &FogVolume)>,
+    mut warned: Local<HashSet<(Entity, &'static str)>>,
 ) {
     let first = volumes.iter().min_by_key(|(e, _)| *e).map(|(_, v)| v);
-    for (entity, bevy_fog, froxel, converted, exposure) in &cameras {
-        match (bevy_fog, froxel.is_some() && !converted) {
+    for (entity, bevy_fog, distance, froxel, converted, from_distance, exposure) in &cameras {
+        if froxel.is_some() && !converted {
             // The camera's own FroxelFog wins.
-            (_, true) => {}
-            (Some(bevy_fog), false) => {
-                let exposure = exposure.copied().unwrap_or_default().exposure();
-                let want = froxel_fog(bevy_fog, first, exposure);
+            continue;
+        }
+        let exposure = exposure.copied().unwrap_or_default().exposure();
+        let distance = distance.and_then(|d| match distance_fog_medium(d, exposure) {
+            Ok(medium) => Some(medium),
+            Err(field) => {
+                if warned.insert((entity, field)) {
+                    warn!(
+                        "volfog: camera {entity}: {field} has no exact volfog equivalent \
+                         (only FogFalloff::Exponential with an opaque colour and no \
+                         directional light colour); Bevy's own DistanceFog stays on"
+                    );
+                }
+                None
+            }
+        });
+        let want = match (bevy_fog, distance) {
+            (Some(bevy_fog), distance) => {
+                let mut want = froxel_fog(bevy_fog, first, exposure);
+                if let Some((density, emission)) = distance {
+                    want.medium.density = density;
+                    want.medium.emission = emission;
+                    want.tail = true;
+                    want.near = DISTANCE_FOG_NEAR;
+                }
+                Some(want)
+            }
+            (None, Some((density, emission))) => Some(distance_froxel_fog(density, emission)),
+            (None, None) => None,
+        };
+        let mut e = commands.entity(entity);
+        match want {
+            Some(want) => {
                 if froxel != Some(&want) {
-                    commands.entity(entity).insert((want, FromBevyFog));
+                    e.insert((want, FromBevyFog));
                 }
             }
-            (None, false) => {
-                if converted {
-                    commands.entity(entity).remove::<(FroxelFog, FromBevyFog)>();
-                }
+            None if converted => {
+                e.remove::<(FroxelFog, FromBevyFog)>();
             }
+            None => {}
+        }
+        match (distance.is_some(), from_distance) {
+            (true, false) => {
+                e.insert(FromDistanceFog);
+            }
+            (false, true) => {
+                e.remove::<FromDistanceFog>();
+            }
+            _ => {}
+        }
+    }
+}
+
+/// The cameras as [`extract_distance_fog_marks`] reads them.
+type MarkedCameras<'w, 's> = Query<'w, 's, (RenderEntity, Has<FromDistanceFog>), With<Camera>>;
+
+/// Marks the render views whose `DistanceFog` volfog renders.
+fn extract_distance_fog_marks(mut commands: Commands, cameras: Extract<MarkedCameras>) {
+    for (render, mapped) in &cameras {
+        let Ok(mut e) = commands.get_entity(render) else {
+            continue;
+        };
+        if mapped {
+            e.insert(DropDistanceFog);
+        } else {
+            e.remove::<DropDistanceFog>();
         }
     }
 }
 
 /// Bevy's volumetric pass runs for views that hold Bevy's `VolumetricFog` in the
-/// render world: with [`BevyFogCompat`] none do.
-fn drop_bevy_volumetric_fog(mut commands: Commands, views: Query<Entity, With<VolumetricFog>>) {
+/// render world, and its materials apply the `DistanceFog` a view holds: with
+/// [`BevyFogCompat`] no view keeps the first, and the views whose distance fog volfog
+/// renders lose the second.
+fn drop_bevy_fog(
+    mut commands: Commands,
+    views: Query<Entity, With<VolumetricFog>>,
+    distance: Query<Entity, (With<DistanceFog>, With<DropDistanceFog>)>,
+) {
     for view in &views {
         commands.entity(view).remove::<VolumetricFog>();
+    }
+    for view in &distance {
+        commands.entity(view).remove::<DistanceFog>();
     }
 }

@@ -320,6 +320,7 @@ fn extracted<'a>(
         noise_scale: fog.medium.noise_scale,
         wind: vec3(fog.medium.wind),
         top_height: fog.medium.top_height,
+        emission: rgb(fog.medium.emission) * scene.exposure,
         ..FogMedium::default()
     };
     medium.validate().map_err(|e| renamed(e, fog))?;
@@ -394,6 +395,7 @@ fn extracted<'a>(
     let ambient = AmbientSh::constant(ambient_radiance * fog.ambient_scattering);
     let tail = if fog.tail {
         let albedo = medium.albedo;
+        // (from_medium adds the emission's share, emission / density.)
         HeightFog::from_medium(&medium, albedo * ambient_radiance * fog.ambient_scattering)
             .with_sun(
                 sun.direction.normalize(),
@@ -495,6 +497,7 @@ fn renamed(mut e: InvalidValue, fog: &FroxelFog) -> InvalidValue {
         "FogMedium.noise_scale" => "FroxelFog.medium.noise_scale",
         "FogMedium.phase_g" => "FroxelFog.medium.phase_g",
         "FogMedium.top_height" => "FroxelFog.medium.top_height",
+        "FogMedium.emission" => "FroxelFog.medium.emission",
         "LocalShadowConfig.spot_shadows" => "FroxelFog.spot_shadows",
         "LocalShadowConfig.point_shadows" => "FroxelFog.point_shadows",
         "LocalShadowConfig.exponent" => "FroxelFog.light_shadow_exponent",

@@ -85,7 +85,10 @@ use bevy::pbr::MaterialPlugin;
 use bevy::prelude::*;
 use bevy::render::{Render, RenderApp, RenderSystems};
 
-pub use compat::{BevyFogCompat, FromBevyFog, froxel_fog, froxel_fog_volume};
+pub use compat::{
+    BevyFogCompat, FromBevyFog, FromDistanceFog, distance_fog_medium, distance_froxel_fog,
+    froxel_fog, froxel_fog_volume,
+};
 pub use extract::{ExtractedFroxelFog, MAX_VOLUMES, TILE_SIZE};
 pub use light_shadows::{ExtractedLightShadow, light_shadow_resolution};
 pub use material::FoggedGlassMaterial;

@@ -158,6 +158,11 @@ pub struct FogMediumSettings {
     /// uniform medium (`height_falloff` 0) needs a top, or with `light_transmittance`
     /// no sunlight reaches it. `|top_height| <= 1e9`.
     pub top_height: f32,
+    /// Radiance the medium emits per metre of path where its extinction is `density`
+    /// (linear rgb, before the camera's exposure; it follows the density's profile):
+    /// glowing fog, or with a black albedo the fog colour of a distance fog (the fog
+    /// then tends to `emission / density`).
+    pub emission: LinearRgba,
 }
 
 impl Default for FogMediumSettings {
@@ -173,6 +178,7 @@ impl Default for FogMediumSettings {
             noise_scale: m.noise_scale,
             wind: Vec3::from_array(m.wind.to_array()),
             top_height: m.top_height,
+            emission: LinearRgba::BLACK,
         }
     }
 }

@@ -8,7 +8,8 @@
 //!   `FogVolume` render, under `BevyFogCompat`, the image of the `FroxelFog` and
 //!   `FroxelFogVolume` they map to, with fog in it and no Bevy volumetric view in the
 //!   render world (while Bevy's own pass, without `BevyFogCompat`, changes the image);
-//!   what volfog does not take warns once, naming the field.
+//!   what volfog does not take warns once, naming the field; Bevy's exponential
+//!   `DistanceFog` renders as Bevy draws it, and fogs the sky with its colour.
 
 #[path = "../examples/fog_scene/scene.rs"]
 mod scene;
@@ -17,6 +18,7 @@ mod warnings;
 
 use bevy::camera::Exposure;
 use bevy::light::{FogVolume, VolumetricFog, VolumetricLight};
+use bevy::pbr::DistanceFog;
 use bevy::prelude::*;
 use bevy::render::RenderApp;
 use scene::{FogKind, SceneCamera, SceneOptions, Sun, read_volume};
@@ -396,4 +398,74 @@ fn the_default_cheap_path_holds_the_image() {
     );
     assert!(mean < 2e-2 && p95 < 5e-2);
     assert!(b_mean > 0.0, "the noise texture is read");
+}
+
+/// Bevy's exponential `DistanceFog` under `BevyFogCompat` (a glowing medium that
+/// scatters nothing, froxels then tail) against Bevy's own per-fragment fog, on every
+/// pixel Bevy fogs (Bevy leaves the sky alone; volfog's sky takes the fog colour,
+/// `1 - exp(-0.03 * infinity)` of it).
+#[test]
+fn exponential_distance_fog_renders_as_bevys() {
+    let mut bevy = scene::app(&options(FogKind::BevyDistance));
+    // The glass sphere's material applies volfog's fog and not Bevy's distance fog:
+    // hidden in both.
+    let hide_glass = |app: &mut App| {
+        app.update();
+        let world = app.world_mut();
+        let mut q = world.query_filtered::<&mut Visibility, With<scene::GlassSphere>>();
+        *q.single_mut(world).unwrap() = Visibility::Hidden;
+    };
+    hide_glass(&mut bevy);
+    // Bevy needs a few frames before every light reaches the surfaces.
+    let by_bevy = scene::capture(&mut bevy, 12);
+    let mut compat = scene::app(&options(FogKind::BevyDistanceCompat));
+    hide_glass(&mut compat);
+    // The mapped FroxelFog keeps the plugin's defaults (temporal reprojection, history
+    // weight 0.9): 60 frames leave 0.9^60 = 0.2 % of the first frames' history.
+    let by_volfog = scene::capture(&mut compat, 60);
+    let camera = camera_of(&mut compat);
+    assert!(compat.world().get::<FroxelFog>(camera).is_some());
+    let render = compat.sub_app_mut(RenderApp).world_mut();
+    let mut views = render.query_filtered::<Entity, With<DistanceFog>>();
+    assert_eq!(
+        views.iter(render).count(),
+        0,
+        "Bevy's materials draw no distance fog"
+    );
+    let fog = extracted(&mut compat);
+    assert!(
+        (fog.medium.density - 0.03).abs() < 1e-7 && fog.medium.albedo == volfog::glam::Vec3::ZERO
+    );
+
+    let sky = Vec4::new(0.35, 0.42, 0.55, 1.0);
+    let color = Vec3::new(0.5, 0.55, 0.62);
+    let (mut surfaces, mut sky_pixels) = (Vec::new(), Vec::new());
+    for (b, v) in by_bevy.iter().zip(&by_volfog) {
+        if (*b - sky).truncate().abs().max_element() < 2e-3 {
+            sky_pixels.push((v.truncate() - color).abs().max_element() / color.max_element());
+        } else {
+            let (b, v) = (b.truncate(), v.truncate());
+            surfaces.push((v - b).abs().max_element() / b.max_element().max(1e-3));
+        }
+    }
+    surfaces.sort_by(f32::total_cmp);
+    sky_pixels.sort_by(f32::total_cmp);
+    let mean = surfaces.iter().sum::<f32>() / surfaces.len() as f32;
+    let p95 = surfaces[surfaces.len() * 95 / 100];
+    let sky_p95 = sky_pixels[sky_pixels.len() * 95 / 100];
+    eprintln!(
+        "exponential DistanceFog, volfog vs Bevy over {} fogged pixels: relative difference \
+         mean {mean:.2e}, p95 {p95:.2e}, max {:.2e} (bounds: mean 1.5e-2, p95 4e-2); {} sky \
+         pixels: 95 % within {sky_p95:.2e} of the fog colour (bound 2e-2)",
+        surfaces.len(),
+        surfaces[surfaces.len() - 1],
+        sky_pixels.len()
+    );
+    assert!(sky_pixels.len() > 100 && surfaces.len() > 5000);
+    assert!(
+        fog.config.near <= 0.1,
+        "the fog starts at Bevy's near plane"
+    );
+    assert!(mean < 1.5e-2 && p95 < 4e-2);
+    assert!(sky_p95 < 2e-2);
 }

@@ -49,6 +49,19 @@ pub enum FogKind {
     BevyBuiltIn,
     /// The same components, rendered by volfog under `BevyFogCompat`.
     BevyCompat,
+    /// Bevy's exponential `DistanceFog` ([`DISTANCE_FOG`]), drawn by Bevy's materials.
+    BevyDistance,
+    /// The same `DistanceFog`, rendered by volfog under `BevyFogCompat`.
+    BevyDistanceCompat,
+}
+
+/// The distance fog of [`FogKind::BevyDistance`]: exponential, 0.03 / m, blue-grey.
+pub fn distance_fog() -> DistanceFog {
+    DistanceFog {
+        color: Color::linear_rgb(0.5, 0.55, 0.62),
+        falloff: FogFalloff::Exponential { density: 0.03 },
+        ..default()
+    }
 }
 
 /// How to build the scene.
@@ -267,7 +280,10 @@ pub fn app(options: &SceneOptions) -> App {
     if options.gpu_timings {
         app.add_plugins(bevy::render::diagnostic::RenderDiagnosticsPlugin);
     }
-    if options.fog == FogKind::BevyCompat {
+    if matches!(
+        options.fog,
+        FogKind::BevyCompat | FogKind::BevyDistanceCompat
+    ) {
         app.add_plugins(BevyFogCompat);
     }
     while app.plugins_state() == PluginsState::Adding {
@@ -473,6 +489,9 @@ fn spawn(
         }
         FogKind::BevyBuiltIn | FogKind::BevyCompat => {
             camera.insert(VolumetricFog::default());
+        }
+        FogKind::BevyDistance | FogKind::BevyDistanceCompat => {
+            camera.insert(distance_fog());
         }
     }
     if matches!(options.fog, FogKind::BevyBuiltIn | FogKind::BevyCompat) {
