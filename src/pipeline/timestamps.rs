@@ -5,6 +5,32 @@
 #[error("reading GPU timestamps failed: {0}")]
 pub struct TimestampError(pub String);
 
+/// Maps `slice` for reading and waits until it is mapped. A browser's WebGPU maps
+/// buffers only between the page's tasks, never while the caller waits: there the
+/// wait fails with an error instead of blocking for ever.
+pub(crate) fn map_blocking(
+    device: &wgpu::Device,
+    slice: &wgpu::BufferSlice<'_>,
+) -> Result<(), String> {
+    let (tx, rx) = std::sync::mpsc::channel();
+    slice.map_async(wgpu::MapMode::Read, move |r| {
+        let _ = tx.send(r);
+    });
+    device
+        .poll(wgpu::PollType::wait_indefinitely())
+        .map_err(|e| e.to_string())?;
+    let mapped = if cfg!(target_arch = "wasm32") {
+        rx.try_recv().map_err(|_| {
+            "a blocking GPU readback is unavailable on the web (WebGPU maps buffers only \
+             between the page's tasks)"
+                .to_string()
+        })?
+    } else {
+        rx.recv().map_err(|e| e.to_string())?
+    };
+    mapped.map_err(|e| e.to_string())
+}
+
 /// GPU timestamp queries in begin/end pairs, one pair per timed pass, with their
 /// resolve and readback buffers (needs `Features::TIMESTAMP_QUERY`).
 #[derive(Debug)]
@@ -79,16 +105,7 @@ impl TimestampPairs {
     ) -> Result<Vec<f64>, TimestampError> {
         let period_ns = f64::from(queue.get_timestamp_period());
         let slice = self.readback.slice(..);
-        let (tx, rx) = std::sync::mpsc::channel();
-        slice.map_async(wgpu::MapMode::Read, move |r| {
-            let _ = tx.send(r);
-        });
-        device
-            .poll(wgpu::PollType::wait_indefinitely())
-            .map_err(|e| TimestampError(e.to_string()))?;
-        rx.recv()
-            .map_err(|e| TimestampError(e.to_string()))?
-            .map_err(|e| TimestampError(e.to_string()))?;
+        map_blocking(device, &slice).map_err(TimestampError)?;
         let ticks: Vec<u64> = {
             let data = slice
                 .get_mapped_range()

@@ -1,10 +1,12 @@
-//! `cargo xtask demo`, `cargo xtask test` and `cargo xtask tools`: make sure the system
-//! packages exist (installing them with apt-get when running as root), build the
-//! independent compilers the tests use, then run the job.
+//! `cargo xtask demo`, `cargo xtask test`, `cargo xtask tools` and `cargo xtask web`:
+//! make sure the system packages exist (installing them with apt-get when running as
+//! root), build the independent compilers and the browser page the tests use, then run
+//! the job.
 
 mod bevy;
 mod system;
 mod tools;
+mod web;
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, exit};
@@ -20,6 +22,9 @@ fn usage() -> ! {
     );
     eprintln!(
         "       cargo xtask tools               install and build only what the test suite needs (target/tools)"
+    );
+    eprintln!(
+        "       cargo xtask web [--serve PORT]  build the browser demo into target/web (wasm), and serve it on 127.0.0.1"
     );
     exit(2);
 }
@@ -90,6 +95,17 @@ fn main() {
             run(&mut volfog(&["selfcheck"]));
             run(volfog(&["demo", "--out"]).arg(out.join("demo")));
         }
+        "web" => {
+            let port = match rest {
+                [] => None,
+                [flag, port] if flag == "--serve" => Some(port.parse().unwrap_or_else(|_| usage())),
+                _ => usage(),
+            };
+            web::build();
+            if let Some(port) = port {
+                web::serve(port);
+            }
+        }
         "tools" => {
             system::ensure(Needs::Tests);
             println!("{}", tools::ensure().display());
@@ -97,8 +113,10 @@ fn main() {
         "test" => {
             system::ensure(Needs::Tests);
             let tools = tools::ensure();
+            let page = web::build();
             run(gpu_env(cargo().args(["test", "--workspace"]).args(rest))
                 .env("VOLFOG_TOOLS_DIR", tools)
+                .env("VOLFOG_WEB_DIR", page)
                 .env("INSTA_UPDATE", "no")
                 .env("CI", "true"));
             if std::env::var_os("VOLFOG_FREE_DISK").is_some_and(|v| v == "1") {

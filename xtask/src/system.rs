@@ -124,6 +124,8 @@ fn missing(needs: Needs) -> Vec<&'static str> {
         // The libLLVM Mitsuba 3's CPU back end (Dr.Jit 1.5) loads: Mesa's libLLVM 15
         // cannot compile its kernels.
         "libllvm19",
+        // The browser the web page is tested in (WebGPU on its bundled SwiftShader).
+        "chromium",
     ] {
         if !dpkg_installed(package) {
             missing.push(package);

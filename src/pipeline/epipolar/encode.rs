@@ -143,16 +143,9 @@ impl EpipolarShafts {
     /// Blocks until the GPU is done.
     pub fn read_corrected(&self, device: &wgpu::Device) -> Result<(u32, u32), EpipolarError> {
         let slice = self.counters_readback.slice(..);
-        let (tx, rx) = std::sync::mpsc::channel();
-        slice.map_async(wgpu::MapMode::Read, move |r| {
-            let _ = tx.send(r);
-        });
         let fail =
             |e: &dyn std::fmt::Display| EpipolarError::Timestamp(TimestampError(e.to_string()));
-        device
-            .poll(wgpu::PollType::wait_indefinitely())
-            .map_err(|e| fail(&e))?;
-        rx.recv().map_err(|e| fail(&e))?.map_err(|e| fail(&e))?;
+        crate::pipeline::timestamps::map_blocking(device, &slice).map_err(|e| fail(&e))?;
         let counts: Vec<u32> = {
             let data = slice.get_mapped_range().map_err(|e| fail(&e))?;
             bytemuck::cast_slice::<u8, u32>(&data).to_vec()

@@ -330,6 +330,15 @@ pub fn check_device(device: &wgpu::Device, config: &FogConfig) -> Result<(), Fog
             ),
         });
     }
+    if config.timestamps && cfg!(target_arch = "wasm32") {
+        return Err(FogError::MissingCapability {
+            what: "blocking GPU readback",
+            detail: "FogConfig.timestamps reads its queries back by waiting for the GPU, which \
+                     a browser's WebGPU cannot do; time passes on the web with the page's own \
+                     timestamp queries or performance.now()"
+                .to_string(),
+        });
+    }
     if config.timestamps && !device.features().contains(wgpu::Features::TIMESTAMP_QUERY) {
         return Err(FogError::MissingCapability {
             what: "timestamp queries",

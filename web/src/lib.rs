@@ -1,0 +1,14 @@
+//! volfog in a browser. The scene ([`scene`]) and its frame ([`render`]) are plain wgpu
+//! and run wherever wgpu does: on the page's WebGPU from wasm (the exports in `page`,
+//! the page in `www/`) and natively, where the browser test renders the same frame on
+//! lavapipe and compares it with the page's. Built and served by `cargo xtask web`.
+
+pub mod readback;
+pub mod render;
+pub mod scene;
+
+#[cfg(not(target_arch = "wasm32"))]
+pub mod serve;
+
+#[cfg(target_arch = "wasm32")]
+mod page;

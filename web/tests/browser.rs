@@ -1,0 +1,192 @@
+//! volfog in a real browser: the page built by `cargo xtask web` (the wasm module on
+//! wgpu's WebGPU backend) runs in headless Chromium on its bundled SwiftShader, renders
+//! the demo scene's fixed frame (shadowed sun, a point and a spot light, two local
+//! volumes, depth culling; no jitter, no history) and posts the integrated fog volume
+//! and the fogged image back; the same frame rendered natively by the same Rust code on
+//! lavapipe must match it. A page error, an uncaught exception or a WebGPU validation
+//! error fails the test with its message.
+
+use std::path::PathBuf;
+use std::process::{Child, Command, Stdio};
+use std::time::{Duration, Instant};
+
+use volfog_web::readback::read_rgba16f;
+use volfog_web::render::Renderer;
+use volfog_web::scene::Params;
+use volfog_web::serve::Server;
+
+const SIZE: (u32, u32) = (320, 180);
+const CHROMIUM: &str = "/usr/lib/chromium/chromium";
+const INSTALL: &str =
+    "cargo xtask web (and apt-get install chromium, which cargo xtask test installs)";
+
+fn page_dir() -> PathBuf {
+    std::env::var_os("VOLFOG_WEB_DIR")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../target/web"))
+}
+
+/// Chromium headless with WebGPU on SwiftShader; killed when dropped.
+struct Browser(Child);
+
+impl Browser {
+    fn open(url: &str, profile: &std::path::Path) -> Self {
+        let binary = std::env::var("VOLFOG_CHROMIUM").unwrap_or_else(|_| CHROMIUM.to_string());
+        let child = Command::new(&binary)
+            .args([
+                "--headless=new",
+                "--no-sandbox",
+                "--no-first-run",
+                "--disable-background-networking",
+                "--disable-component-update",
+                "--disable-sync",
+                "--enable-unsafe-webgpu",
+                "--enable-features=Vulkan",
+                "--use-vulkan=swiftshader",
+                "--use-angle=swiftshader",
+                "--enable-unsafe-swiftshader",
+                "--enable-logging=stderr",
+                "--v=0",
+            ])
+            .arg(format!("--user-data-dir={}", profile.display()))
+            .arg(url)
+            .stdout(Stdio::null())
+            .stderr(Stdio::piped())
+            .spawn()
+            .unwrap_or_else(|e| panic!("cannot start {binary}: {e}; install it with `{INSTALL}`"));
+        Self(child)
+    }
+}
+
+impl Drop for Browser {
+    fn drop(&mut self) {
+        let _ = self.0.kill();
+        let _ = self.0.wait();
+    }
+}
+
+fn floats(bytes: &[u8]) -> Vec<[f32; 4]> {
+    bytes
+        .chunks_exact(16)
+        .map(|c| {
+            let f = |i: usize| f32::from_le_bytes(c[i * 4..i * 4 + 4].try_into().unwrap());
+            [f(0), f(1), f(2), f(3)]
+        })
+        .collect()
+}
+
+/// Per texel, the largest |got - want| over max(|want|, floor) of its four channels,
+/// sorted; and the mean absolute difference over all channels.
+fn relative_errors(got: &[[f32; 4]], want: &[[f32; 4]], floor: f32) -> (Vec<f32>, f32) {
+    assert_eq!(got.len(), want.len(), "the page read back another size");
+    let mut abs = 0.0f64;
+    let mut errors: Vec<f32> = got
+        .iter()
+        .zip(want)
+        .map(|(g, w)| {
+            assert!(
+                g.iter().all(|v| v.is_finite()),
+                "non-finite value from the page: {g:?}"
+            );
+            (0..4)
+                .map(|c| {
+                    let d = (g[c] - w[c]).abs();
+                    abs += f64::from(d);
+                    d / w[c].abs().max(floor)
+                })
+                .fold(0.0, f32::max)
+        })
+        .collect();
+    errors.sort_by(f32::total_cmp);
+    (errors, (abs / (got.len() * 4) as f64) as f32)
+}
+
+/// Mean, 99th and 99.9th percentile and worst of sorted errors.
+fn summary(sorted: &[f32]) -> [f32; 4] {
+    let at = |q: f64| sorted[((sorted.len() - 1) as f64 * q) as usize];
+    let mean = sorted.iter().map(|&e| f64::from(e)).sum::<f64>() / sorted.len() as f64;
+    [mean as f32, at(0.99), at(0.999), at(1.0)]
+}
+
+#[test]
+fn the_page_renders_the_native_frame_in_headless_chromium() {
+    // The native frame on lavapipe.
+    let gpu = volfog_testkit::Gpu::shared();
+    let (native_volume, native_image) = gpu
+        .checked(|| {
+            let mut renderer = Renderer::new(&gpu.device, SIZE, false).expect("the scene builds");
+            let commands = renderer
+                .frame(&gpu.device, &gpu.queue, &Params::default())
+                .expect("a valid frame");
+            gpu.queue.submit([commands]);
+            let volume = pollster::block_on(read_rgba16f(
+                &gpu.device,
+                &gpu.queue,
+                renderer.fog.integrated_texture(),
+            ))
+            .expect("readback");
+            let image = pollster::block_on(read_rgba16f(&gpu.device, &gpu.queue, &renderer.color))
+                .expect("readback");
+            (volume, image)
+        })
+        .expect("no validation error natively");
+
+    // The same frame in the browser.
+    let dir = page_dir();
+    let server =
+        Server::start(&dir, 0).unwrap_or_else(|e| panic!("{e}; build the page with `{INSTALL}`"));
+    let profile = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("chromium-profile");
+    let _ = std::fs::remove_dir_all(&profile);
+    let started = Instant::now();
+    let browser = Browser::open(
+        &server.url(&format!("check={}x{}", SIZE.0, SIZE.1)),
+        &profile,
+    );
+    let (mut volume, mut image, mut done) = (None, None, None);
+    while done.is_none() {
+        let left = Duration::from_secs(180).saturating_sub(started.elapsed());
+        let Some(report) = server.next_report(left) else {
+            drop(browser);
+            panic!("the page reported nothing within 180 s");
+        };
+        match report.name.as_str() {
+            "error" => panic!("the page failed: {}", String::from_utf8_lossy(&report.body)),
+            "integrated" => volume = Some(floats(&report.body)),
+            "image" => image = Some(floats(&report.body)),
+            "done" => done = Some(String::from_utf8_lossy(&report.body).into_owned()),
+            other => panic!("unexpected report {other}"),
+        }
+    }
+    drop(browser);
+    let done: serde_json::Value = serde_json::from_str(&done.unwrap()).expect("JSON");
+    let (volume, image) = (volume.expect("the volume"), image.expect("the image"));
+    println!(
+        "browser: {} ({:.0} ms for the frame and its readback, {:.1} s from launch); native: {}",
+        done["adapter"],
+        done["ms"].as_f64().unwrap_or(f64::NAN),
+        started.elapsed().as_secs_f64(),
+        gpu.describe()
+    );
+
+    // Integrated in-scattering and transmittance: fp16 storage rounds each value by
+    // 2^-11; the two rasterizers, samplers and exp/pow implementations differ a little
+    // more. The largest differences lie behind a pillar's edge, where the two
+    // rasterizers put the farthest depth of a screen tile a slice apart, so depth
+    // culling ends the column's scan one slice earlier in one of them.
+    let (errors, abs) = relative_errors(&volume, &native_volume, 0.05);
+    let [mean, p99, p999, worst] = summary(&errors);
+    println!(
+        "integrated volume, relative (floor 0.05) per froxel: mean {mean:.2e}, p99 {p99:.2e}, \
+         p99.9 {p999:.2e}, worst {worst:.2e}; mean |d| {abs:.2e}"
+    );
+    let (errors, abs) = relative_errors(&image, &native_image, 0.05);
+    let [imean, ip99, ip999, iworst] = summary(&errors);
+    println!(
+        "fogged image, relative (floor 0.05) per pixel: mean {imean:.2e}, p99 {ip99:.2e}, \
+         p99.9 {ip999:.2e}, worst {iworst:.2e} (a silhouette pixel); mean |d| {abs:.2e}"
+    );
+    assert!(mean < 1.5e-3, "volume mean {mean:.2e} >= 1.5e-3");
+    assert!(p999 < 5e-3, "volume p99.9 {p999:.2e} >= 5e-3");
+    assert!(imean < 5e-3, "image mean {imean:.2e} >= 5e-3");
+    assert!(ip99 < 2e-2, "image p99 {ip99:.2e} >= 2e-2");
+}
