@@ -4,8 +4,10 @@
 //! and two hand-written hosts in `hosts/`: a forward fragment shader that calls every
 //! function taking resources or structs, and the compute shader of the number checks.
 //! HLSL through Slang (warnings as errors), GLSL through glslang (with
-//! GL_GOOGLE_include_directive) and Mesa's OpenGL 4.5 driver (includes pasted in), WGSL
-//! through Dawn/Tint (null and OpenGL backends). MSL has no compiler here.
+//! GL_GOOGLE_include_directive) and Mesa's OpenGL 4.5 driver (includes pasted in), GLSL
+//! ES 3.00 through glslang and Mesa as fragment shaders (includes pasted in; WebGL2
+//! itself compiles them in the browser test of `volfog-web`), WGSL through Dawn/Tint
+//! (null and OpenGL backends). MSL has no compiler here.
 
 use std::path::{Path, PathBuf};
 
@@ -75,6 +77,7 @@ fn host_ext(include_ext: &str) -> &'static str {
     match include_ext {
         "hlsli" => "hlsl",
         "glsl" => "comp",
+        "es.glsl" => "frag",
         other => panic!("{other}"),
     }
 }
@@ -134,6 +137,37 @@ pub(crate) fn paste_includes(text: &str, dir: &Path) -> String {
             None => format!("{l}\n"),
         })
         .collect()
+}
+
+#[test]
+fn every_glsl_es_snippet_compiles_as_a_webgl2_fragment_shader() {
+    let include = exported().join("glsl/include");
+    let dir = scratch("snippet-hosts-glsl-es");
+    let header = "#version 300 es\nprecision highp float;\nprecision highp int;\n";
+    let hosts = host_shaders(&dir, "es.glsl", |includes| {
+        let body = format!(
+            "{includes}\nlayout(location = 0) out vec4 volfog_out;\nvoid main() {{ volfog_out = vec4(0.0); }}\n"
+        );
+        format!("{header}{}", paste_includes(&body, &include))
+    });
+    let mut failed = Vec::new();
+    for h in &hosts {
+        let o = output(glslang().args(["-S", "frag"]).arg(&h.file));
+        if !o.status.success() {
+            failed.push(format!("glslang {}: {}", h.file.display(), text(&o)));
+        }
+        let o = output(gl_link().arg(format!("frag:{}", h.file.display())));
+        if !o.status.success() {
+            failed.push(format!("Mesa {}: {}", h.file.display(), text(&o)));
+        }
+    }
+    eprintln!(
+        "glsl es snippets x glslang and x Mesa (GLSL ES 3.00): {} snippet files in {} host shaders, {} failed",
+        names().len(),
+        hosts.len(),
+        failed.len()
+    );
+    assert!(failed.is_empty(), "{}", failed.join("\n"));
 }
 
 #[test]

@@ -6,6 +6,7 @@ use std::sync::Arc;
 
 use wasm_bindgen::prelude::*;
 
+use crate::analytic::analytic_scene;
 use crate::readback::read_rgba16f;
 use crate::render::{Display, Renderer};
 use crate::scene::{Params, SLIDERS};
@@ -222,4 +223,24 @@ pub async fn check(width: u32, height: u32) -> Result<js_sys::Object, JsError> {
         js_sys::Reflect::set(&o, &k.into(), &v).map_err(|_| js_error("Reflect.set"))?;
     }
     Ok(o)
+}
+
+/// The WebGL2 tier's uniform block (`Scene` in `webgl2.js`, std140) for the sliders'
+/// values at `width` x `height` pixels.
+#[wasm_bindgen]
+pub fn analytic_block(
+    width: u32,
+    height: u32,
+    density: f32,
+    phase_g: f32,
+    sun_elevation: f32,
+) -> Result<js_sys::Uint8Array, JsError> {
+    let params = Params {
+        density,
+        phase_g,
+        sun_elevation,
+        ..Params::default()
+    };
+    let scene = analytic_scene(&params, (width.max(1), height.max(1))).map_err(js_error)?;
+    Ok(js_sys::Uint8Array::from(scene.to_std140().as_slice()))
 }

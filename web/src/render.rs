@@ -16,6 +16,8 @@ use crate::scene::{self, Params, Vertex};
 /// Format of the lit and fogged image.
 pub const COLOR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
 const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
+/// Largest image side (WebGPU's default 2D texture limit).
+const MAX_SIDE: u32 = 8192;
 
 /// The scene uniform (`Scene` in `scene.wgsl`).
 #[repr(C)]
@@ -93,8 +95,15 @@ fn uniform_entry(binding: u32, visibility: wgpu::ShaderStages) -> wgpu::BindGrou
 }
 
 impl Renderer {
-    /// The scene and its fog at `size` pixels; `animated` as in [`scene::config`].
+    /// The scene and its fog at `size` pixels (1..=8192 per side); `animated` as in
+    /// [`scene::config`].
     pub fn new(device: &wgpu::Device, size: (u32, u32), animated: bool) -> Result<Self, FogError> {
+        volfog::limits::check(
+            (1..=MAX_SIDE).contains(&size.0) && (1..=MAX_SIDE).contains(&size.1),
+            "Renderer.size",
+            size,
+            "1..=8192 pixels per side",
+        )?;
         let config = scene::config(animated);
         let mut fog = VolumetricFog::new(device, &config)?;
         let apply = fog.create_apply(device, COLOR_FORMAT)?;

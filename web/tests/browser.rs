@@ -6,10 +6,12 @@
 //! lavapipe must match it. A page error, an uncaught exception or a WebGPU validation
 //! error fails the test with its message.
 
+use std::collections::HashMap;
 use std::path::PathBuf;
 use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};
 
+use volfog_web::analytic::analytic_scene;
 use volfog_web::readback::read_rgba16f;
 use volfog_web::render::Renderer;
 use volfog_web::scene::Params;
@@ -26,12 +28,29 @@ fn page_dir() -> PathBuf {
         .unwrap_or_else(|| PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../target/web"))
 }
 
-/// Chromium headless with WebGPU on SwiftShader; killed when dropped.
+/// Chromium headless, WebGL2 on SwiftShader through ANGLE, and with `webgpu` WebGPU
+/// on SwiftShader's Vulkan (without it the browser offers no WebGPU adapter); killed
+/// when dropped.
 struct Browser(Child);
 
 impl Browser {
-    fn open(url: &str, profile: &std::path::Path) -> Self {
+    fn open(url: &str, webgpu: bool) -> Self {
         let binary = std::env::var("VOLFOG_CHROMIUM").unwrap_or_else(|_| CHROMIUM.to_string());
+        let profile = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(if webgpu {
+            "chromium-webgpu"
+        } else {
+            "chromium-webgl2"
+        });
+        let _ = std::fs::remove_dir_all(&profile);
+        let gpu_flags: &[&str] = if webgpu {
+            &[
+                "--enable-unsafe-webgpu",
+                "--enable-features=Vulkan",
+                "--use-vulkan=swiftshader",
+            ]
+        } else {
+            &["--disable-features=WebGPU,Vulkan"]
+        };
         let child = Command::new(&binary)
             .args([
                 "--headless=new",
@@ -40,14 +59,12 @@ impl Browser {
                 "--disable-background-networking",
                 "--disable-component-update",
                 "--disable-sync",
-                "--enable-unsafe-webgpu",
-                "--enable-features=Vulkan",
-                "--use-vulkan=swiftshader",
                 "--use-angle=swiftshader",
                 "--enable-unsafe-swiftshader",
                 "--enable-logging=stderr",
                 "--v=0",
             ])
+            .args(gpu_flags)
             .arg(format!("--user-data-dir={}", profile.display()))
             .arg(url)
             .stdout(Stdio::null())
@@ -108,6 +125,64 @@ fn summary(sorted: &[f32]) -> [f32; 4] {
     [mean as f32, at(0.99), at(0.999), at(1.0)]
 }
 
+/// Opens the page with `query` (`check=WxH`: the check frame; `frames=N`: the demo for
+/// N frames) in Chromium, with or without WebGPU, and collects its reports until
+/// `done`: the reports by name and `done`'s JSON, or the message of the first error
+/// the page reports.
+fn open_page(
+    webgpu: bool,
+    query: &str,
+) -> Result<(HashMap<String, Vec<u8>>, serde_json::Value), String> {
+    let dir = page_dir();
+    let server =
+        Server::start(&dir, 0).unwrap_or_else(|e| panic!("{e}; build the page with `{INSTALL}`"));
+    let started = Instant::now();
+    let browser = Browser::open(&server.url(query), webgpu);
+    let mut reports = HashMap::new();
+    loop {
+        let left = Duration::from_secs(180).saturating_sub(started.elapsed());
+        let Some(report) = server.next_report(left) else {
+            drop(browser);
+            panic!("the page reported nothing within 180 s");
+        };
+        match report.name.as_str() {
+            "error" => return Err(String::from_utf8_lossy(&report.body).into_owned()),
+            "done" => {
+                let done = serde_json::from_slice(&report.body).expect("JSON");
+                println!(
+                    "page done {:.1} s after launch",
+                    started.elapsed().as_secs_f64()
+                );
+                return Ok((reports, done));
+            }
+            name => {
+                reports.insert(name.to_string(), report.body);
+            }
+        }
+    }
+}
+
+/// [`open_page`] at [`SIZE`], failing with the page's message.
+fn run_page(webgpu: bool) -> (HashMap<String, Vec<u8>>, serde_json::Value) {
+    open_page(webgpu, &format!("check={}x{}", SIZE.0, SIZE.1))
+        .unwrap_or_else(|e| panic!("the page failed: {e}"))
+}
+
+#[test]
+fn a_page_error_reaches_the_test_with_its_message() {
+    // A zero-sized image is refused by the wasm module with a typed error, which the
+    // page reports as an uncaught rejection.
+    let message = match open_page(true, "check=0x180") {
+        Ok((_, done)) => panic!("the page accepted a 0 x 180 image: {done}"),
+        Err(message) => message,
+    };
+    println!("the page reported: {message}");
+    assert!(
+        message.contains("Renderer.size") && message.contains("1..=8192"),
+        "{message}"
+    );
+}
+
 #[test]
 fn the_page_renders_the_native_frame_in_headless_chromium() {
     // The native frame on lavapipe.
@@ -132,39 +207,14 @@ fn the_page_renders_the_native_frame_in_headless_chromium() {
         .expect("no validation error natively");
 
     // The same frame in the browser.
-    let dir = page_dir();
-    let server =
-        Server::start(&dir, 0).unwrap_or_else(|e| panic!("{e}; build the page with `{INSTALL}`"));
-    let profile = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("chromium-profile");
-    let _ = std::fs::remove_dir_all(&profile);
-    let started = Instant::now();
-    let browser = Browser::open(
-        &server.url(&format!("check={}x{}", SIZE.0, SIZE.1)),
-        &profile,
-    );
-    let (mut volume, mut image, mut done) = (None, None, None);
-    while done.is_none() {
-        let left = Duration::from_secs(180).saturating_sub(started.elapsed());
-        let Some(report) = server.next_report(left) else {
-            drop(browser);
-            panic!("the page reported nothing within 180 s");
-        };
-        match report.name.as_str() {
-            "error" => panic!("the page failed: {}", String::from_utf8_lossy(&report.body)),
-            "integrated" => volume = Some(floats(&report.body)),
-            "image" => image = Some(floats(&report.body)),
-            "done" => done = Some(String::from_utf8_lossy(&report.body).into_owned()),
-            other => panic!("unexpected report {other}"),
-        }
-    }
-    drop(browser);
-    let done: serde_json::Value = serde_json::from_str(&done.unwrap()).expect("JSON");
-    let (volume, image) = (volume.expect("the volume"), image.expect("the image"));
+    let (reports, done) = run_page(true);
+    let volume = floats(&reports["integrated"]);
+    let image = floats(&reports["image"]);
+    assert_eq!(done["tier"], "webgpu", "the page ran another tier: {done}");
     println!(
-        "browser: {} ({:.0} ms for the frame and its readback, {:.1} s from launch); native: {}",
+        "browser WebGPU: {} ({:.0} ms for the frame and its readback); native: {}",
         done["adapter"],
         done["ms"].as_f64().unwrap_or(f64::NAN),
-        started.elapsed().as_secs_f64(),
         gpu.describe()
     );
 
@@ -189,4 +239,73 @@ fn the_page_renders_the_native_frame_in_headless_chromium() {
     assert!(p999 < 5e-3, "volume p99.9 {p999:.2e} >= 5e-3");
     assert!(imean < 5e-3, "image mean {imean:.2e} >= 5e-3");
     assert!(ip99 < 2e-2, "image p99 {ip99:.2e} >= 2e-2");
+}
+
+#[test]
+fn without_webgpu_the_webgl2_tier_draws_the_analytic_fog_of_the_cpu_mirror() {
+    let (reports, done) = run_page(false);
+    assert_eq!(done["tier"], "webgl2", "the page ran another tier: {done}");
+    let image = floats(&reports["image"]);
+    let scene = analytic_scene(&Params::default(), SIZE).expect("a valid scene");
+    let pixels: Vec<(u32, u32)> = (0..SIZE.1)
+        .flat_map(|y| (0..SIZE.0).map(move |x| (x, y)))
+        .collect();
+    let want: Vec<[f32; 4]> = pixels
+        .iter()
+        .map(|&(x, y)| scene.pixel(x, y, SIZE).to_array())
+        .collect();
+    // The fog shapes the image: it hides part of what lies behind it and adds light.
+    let (mut hidden, mut added, mut seen) = (0.0f64, 0.0f64, 0.0f64);
+    for &(x, y) in &pixels {
+        let (surface, fog) = scene.pixel_parts(x, y, SIZE);
+        hidden += f64::from(1.0 - fog.w);
+        added += f64::from(fog.truncate().element_sum());
+        seen += f64::from((surface * fog.w).element_sum());
+    }
+    let n = pixels.len() as f64;
+    println!(
+        "the fog hides {:.1} % of the background and adds {:.1} % of the light seen",
+        100.0 * hidden / n,
+        100.0 * added / (added + seen)
+    );
+    assert!(hidden / n > 0.1 && added / (added + seen) > 0.1);
+    println!(
+        "browser WebGL2: {} ({:.0} ms to compile, draw and read back)",
+        done["adapter"],
+        done["ms"].as_f64().unwrap_or(f64::NAN)
+    );
+    // Both in f32: the GPU's exp, pow and sqrt against Rust's, through the sky's 64 x 16
+    // sample quadrature and the fog's closed forms.
+    let (errors, abs) = relative_errors(&image, &want, 0.05);
+    let [mean, p99, p999, worst] = summary(&errors);
+    println!(
+        "WebGL2 image against the CPU mirror, relative (floor 0.05) per pixel: mean {mean:.2e}, \
+         p99 {p99:.2e}, p99.9 {p999:.2e}, worst {worst:.2e}; mean |d| {abs:.2e}"
+    );
+    assert!(mean < 1e-5, "mean {mean:.2e} >= 1e-5");
+    assert!(p999 < 1e-4, "p99.9 {p999:.2e} >= 1e-4");
+}
+
+#[test]
+fn the_demo_animates_its_canvas_on_either_tier() {
+    // SwiftShader runs both on the CPU: a dozen frames tell that the loop runs.
+    for (webgpu, tier) in [(true, "webgpu"), (false, "webgl2")] {
+        let (_, done) = open_page(webgpu, "frames=12")
+            .unwrap_or_else(|e| panic!("the {tier} demo failed: {e}"));
+        let number = |k: &str| done[k].as_f64().unwrap_or(f64::NAN);
+        println!(
+            "{tier} demo at {}: {:.0} ms per frame (mean of 11 intervals) on {}; canvas mean \
+             {:.1}, deviation {:.1} (8-bit)",
+            done["size"],
+            number("ms"),
+            done["adapter"],
+            number("mean"),
+            number("deviation")
+        );
+        assert_eq!(done["tier"], tier);
+        assert!(number("ms") > 0.0, "{done}");
+        // Neither black nor flat: the scene is drawn.
+        let (mean, deviation) = (number("mean"), number("deviation"));
+        assert!((20.0..235.0).contains(&mean) && deviation > 5.0, "{done}");
+    }
 }

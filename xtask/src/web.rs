@@ -1,6 +1,6 @@
 //! `cargo xtask web`: the browser demo built into `target/web` (the wasm module and its
-//! wasm-bindgen glue in `pkg/`, the page from `web/www`) and, with `--serve`, served
-//! from 127.0.0.1.
+//! wasm-bindgen glue in `pkg/`, the page from `web/www`, the GLSL ES snippet the
+//! WebGL2 tier includes in `shaders/`) and, with `--serve`, served from 127.0.0.1.
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -89,6 +89,11 @@ pub fn build() -> PathBuf {
         .arg(staging.join("pkg"))
         .arg(wasm));
     copy_dir(&root().join("web").join("www"), &staging);
+    // The GLSL ES snippet the WebGL2 tier includes (and the apply pass beside it).
+    run(cargo()
+        .args(["run", "--bin", "volfog", "--", "export", "--target", "glsl"])
+        .args(["--variant", "apply", "--snippets", "all", "--out"])
+        .arg(staging.join("shaders")));
     let _ = std::fs::remove_dir_all(&out);
     std::fs::rename(&staging, &out).unwrap_or_else(|e| panic!("{}: {e}", out.display()));
     let size = std::fs::metadata(out.join("pkg").join("volfog_web_bg.wasm"))

@@ -217,10 +217,10 @@ pub fn manifest_value(
                 name: &s.name,
                 files: targets
                     .iter()
-                    .filter_map(|t| SnippetLanguage::of_target(*t))
+                    .flat_map(|t| SnippetLanguage::of_target(*t))
                     .map(|l| {
                         (
-                            l.target().name(),
+                            l.name(),
                             format!("{}/include/{}", l.target().name(), s.file_name(l)),
                         )
                     })

@@ -329,7 +329,7 @@ fn write_staging(staging: &Path, c: &Contents<'_>) -> Result<ExportSummary, Expo
     for language in c
         .targets
         .iter()
-        .filter_map(|t| SnippetLanguage::of_target(*t))
+        .flat_map(|t| SnippetLanguage::of_target(*t))
         .filter(|_| !c.snippets.is_empty())
     {
         let dir = staging.join(language.target().name()).join("include");

@@ -3,7 +3,7 @@
 
 use naga::back::{glsl, hlsl, msl};
 
-use super::ENTRY;
+use super::{ENTRY, FRAGMENT_ENTRY};
 
 pub(super) fn write_hlsl(
     module: &naga::Module,
@@ -24,13 +24,48 @@ pub(super) fn write_glsl(
     module: &naga::Module,
     info: &naga::valid::ModuleInfo,
 ) -> Result<String, String> {
+    glsl_text(
+        module,
+        info,
+        glsl::Version::Desktop(450),
+        naga::ShaderStage::Compute,
+        ENTRY,
+    )
+}
+
+/// GLSL ES 3.00 (WebGL2) through the fragment entry point: ES 3.00 has no compute
+/// stage.
+pub(super) fn write_glsl_es(
+    module: &naga::Module,
+    info: &naga::valid::ModuleInfo,
+) -> Result<String, String> {
+    let version = glsl::Version::Embedded {
+        version: 300,
+        is_webgl: true,
+    };
+    glsl_text(
+        module,
+        info,
+        version,
+        naga::ShaderStage::Fragment,
+        FRAGMENT_ENTRY,
+    )
+}
+
+fn glsl_text(
+    module: &naga::Module,
+    info: &naga::valid::ModuleInfo,
+    version: glsl::Version,
+    shader_stage: naga::ShaderStage,
+    entry: &str,
+) -> Result<String, String> {
     let options = glsl::Options {
-        version: glsl::Version::Desktop(450),
+        version,
         ..Default::default()
     };
     let pipeline = glsl::PipelineOptions {
-        shader_stage: naga::ShaderStage::Compute,
-        entry_point: ENTRY.to_string(),
+        shader_stage,
+        entry_point: entry.to_string(),
         multiview: None,
     };
     let mut text = String::new();

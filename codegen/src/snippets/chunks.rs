@@ -12,8 +12,8 @@ pub(super) struct Chunk {
 }
 
 /// Splits generated text into top-level definitions, drops the snippet entry point and
-/// what only it needs (GLSL's `#version`, extensions and workgroup layout, naga's
-/// comments), and gives naga's anonymous types (`type_N`) names of this module.
+/// what only it needs (GLSL's `#version`, extensions and workgroup layout, GLSL ES's
+/// default precisions and fragment output, naga's comments), and gives naga's anonymous types (`type_N`) names of this module.
 pub(super) fn chunks(text: &str, module: &str) -> Vec<Chunk> {
     let text = rename_anonymous_types(text, module);
     // naga's `// language:` note and GLSL's compute-stage extension belong to the
@@ -29,6 +29,9 @@ pub(super) fn chunks(text: &str, module: &str) -> Vec<Chunk> {
         !(c.text.contains(ENTRY)
             || text.starts_with("void main(")
             || text.starts_with("#version")
+            || text.starts_with("precision ")
+            // The fragment entry point's output (naga names them `_fs2p_*`).
+            || text.contains("_fs2p_")
             || text.starts_with("layout(local_size"))
     });
     for c in &mut out {

@@ -1,7 +1,7 @@
 //! Engine include snippets: the in-shader modules (`apply`, `height_fog`,
 //! `fog_volume`, `lightning`, `soft_particles`, `phase`) as files an engine includes
-//! in its own shaders, in HLSL (`.hlsli`), GLSL (`.glsl`), MSL (`.h`) and flattened
-//! WGSL, generated from the one WGSL source.
+//! in its own shaders, in HLSL (`.hlsli`), GLSL 450 (`.glsl`), GLSL ES 3.00 for WebGL2
+//! (`.es.glsl`), MSL (`.h`) and flattened WGSL, generated from the one WGSL source.
 //!
 //! Every global name starts with `volfog_` (functions, structs, constants; the module's
 //! dependencies come along under their own `volfog_` names); nothing is bound: the
@@ -32,7 +32,7 @@ use crate::manifest::MODULES;
 use crate::reflect::{StructLayout, struct_layouts};
 use crate::{CodegenError, Target, names};
 
-use backends::{write_glsl, write_hlsl, write_msl};
+use backends::{write_glsl, write_glsl_es, write_hlsl, write_msl};
 use chunks::chunks;
 use render::{render, union};
 
@@ -55,6 +55,9 @@ pub const ALL_SNIPPETS: &str = "all";
 
 /// The entry point a snippet module gets for the backends that need one; removed again.
 const ENTRY: &str = "volfog_snippet_entry";
+/// The fragment entry point GLSL ES 3.00 needs (it has no compute stage); its name
+/// holds [`ENTRY`], so it is removed the same way.
+const FRAGMENT_ENTRY: &str = "volfog_snippet_entry_fragment";
 
 /// A snippet's language.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize)]
@@ -64,6 +67,9 @@ pub enum SnippetLanguage {
     Hlsl,
     /// GLSL include (`.glsl`), for `#version 450` shaders.
     Glsl,
+    /// GLSL ES include (`.es.glsl`), for `#version 300 es` shaders (WebGL2); in the
+    /// GLSL target's folder next to the GLSL 450 one.
+    GlslEs,
     /// Metal header (`.h`).
     Msl,
     /// Flattened WGSL (`.wgsl`).
@@ -72,21 +78,32 @@ pub enum SnippetLanguage {
 
 impl SnippetLanguage {
     /// Every language.
-    pub const ALL: [SnippetLanguage; 4] = [Self::Hlsl, Self::Glsl, Self::Msl, Self::Wgsl];
+    pub const ALL: [SnippetLanguage; 5] =
+        [Self::Hlsl, Self::Glsl, Self::GlslEs, Self::Msl, Self::Wgsl];
 
     /// The export target whose folder holds this language's snippets.
     pub fn target(self) -> Target {
         match self {
             Self::Hlsl => Target::Hlsl,
-            Self::Glsl => Target::Glsl,
+            Self::Glsl | Self::GlslEs => Target::Glsl,
             Self::Msl => Target::Msl,
             Self::Wgsl => Target::Wgsl,
         }
     }
 
-    /// The language of a target, if it has snippets (SPIR-V has none).
-    pub fn of_target(target: Target) -> Option<Self> {
-        Self::ALL.into_iter().find(|l| l.target() == target)
+    /// The languages whose snippets a target's folder holds (SPIR-V has none, GLSL
+    /// two).
+    pub fn of_target(target: Target) -> impl Iterator<Item = Self> {
+        Self::ALL.into_iter().filter(move |l| l.target() == target)
+    }
+
+    /// The language's name in the manifest (`glsl_es` for GLSL ES, otherwise the
+    /// target's).
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::GlslEs => "glsl_es",
+            other => other.target().name(),
+        }
     }
 
     /// File extension.
@@ -94,6 +111,7 @@ impl SnippetLanguage {
         match self {
             Self::Hlsl => "hlsli",
             Self::Glsl => "glsl",
+            Self::GlslEs => "es.glsl",
             Self::Msl => "h",
             Self::Wgsl => "wgsl",
         }
@@ -114,7 +132,7 @@ pub struct Snippet {
     /// The structs its functions take, `volfog_`-prefixed, with their WGSL layouts.
     pub structs: Vec<StructLayout>,
     /// Text per language, in [`SnippetLanguage::ALL`] order.
-    texts: [String; 4],
+    texts: [String; 5],
 }
 
 impl Snippet {
@@ -157,7 +175,10 @@ pub fn snippet(name: &str) -> Result<Snippet, CodegenError> {
         .filter(|l| !l.trim_start().starts_with("#define_import_path"))
         .map(|l| format!("{l}\n"))
         .collect();
-    let text = format!("{body}\n@compute @workgroup_size(1) fn {ENTRY}() {{}}\n");
+    let text = format!(
+        "{body}\n@compute @workgroup_size(1) fn {ENTRY}() {{}}\n\
+         @fragment fn {FRAGMENT_ENTRY}() -> @location(0) vec4<f32> {{ return vec4<f32>(0.0); }}\n"
+    );
     let mut module = with_shared_composer(|composer| {
         composer
             .make_naga_module(NagaModuleDescriptor {
@@ -191,11 +212,12 @@ pub fn snippet(name: &str) -> Result<Snippet, CodegenError> {
     let raw = [
         write_hlsl(&module, &info).map_err(backend)?,
         write_glsl(&module, &info).map_err(backend)?,
+        write_glsl_es(&module, &info).map_err(backend)?,
         write_msl(&module, &info).map_err(backend)?,
         wgsl::write_string(&module, &info, wgsl::WriterFlags::empty())
             .map_err(|e| backend(e.to_string()))?,
     ];
-    let mut texts: [String; 4] = Default::default();
+    let mut texts: [String; 5] = Default::default();
     for (i, language) in SnippetLanguage::ALL.into_iter().enumerate() {
         let chunks = chunks(&raw[i], name);
         texts[i] = render(name, language, &functions, &structs, &chunks);

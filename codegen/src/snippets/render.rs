@@ -20,6 +20,7 @@ pub(super) fn render(
         SnippetLanguage::Wgsl
         | SnippetLanguage::Hlsl
         | SnippetLanguage::Glsl
+        | SnippetLanguage::GlslEs
         | SnippetLanguage::Msl => "//",
     };
     let source = if name == ALL_SNIPPETS {
@@ -34,6 +35,7 @@ pub(super) fn render(
             match language {
                 SnippetLanguage::Hlsl => "HLSL (shader model 6.0)",
                 SnippetLanguage::Glsl => "GLSL 450",
+                SnippetLanguage::GlslEs => "GLSL ES 3.00 (WebGL2)",
                 SnippetLanguage::Msl => "Metal Shading Language 2.1",
                 SnippetLanguage::Wgsl => "flattened WGSL",
             },
@@ -56,6 +58,13 @@ pub(super) fn render(
          samplers and values as arguments."
             .to_string(),
     );
+    if language == SnippetLanguage::GlslEs {
+        header.push(
+            "Declare the default precisions (precision highp float; precision highp int;) \
+             before including it."
+                .to_string(),
+        );
+    }
     header.push(if language.guarded() {
         "Each definition is guarded (VOLFOG_HAVE_<name>): several volfog snippets can be \
          included in one shader."
@@ -117,7 +126,7 @@ pub(super) fn union(parts: &[Snippet]) -> Snippet {
             }
         }
     }
-    let mut texts: [String; 4] = Default::default();
+    let mut texts: [String; 5] = Default::default();
     for (i, language) in SnippetLanguage::ALL.into_iter().enumerate() {
         let mut seen = HashSet::new();
         let mut merged = Vec::new();
