@@ -20,9 +20,15 @@ use crate::snippet_hosts::paste_includes;
 use crate::tools::{gl_link, glslang, output, slang_check, text};
 
 /// The files that hold every `rust` block of the guides, compiled: the root crate's
-/// example (built by `cargo test`, run by `cargo run --example wgpu_fog`) and the Bevy
-/// workspace's (built by its `cargo test` and `cargo check --examples`).
-const COMPILED: [&str; 2] = ["examples/wgpu_fog.rs", "bevy/examples/quick_start.rs"];
+/// example (built by `cargo test`, run by `cargo run --example wgpu_fog`), the Bevy
+/// workspace's (built by its `cargo test` and `cargo check --examples`) and the web
+/// page's wasm module (built by `cargo xtask web`, which `cargo xtask test` runs).
+const COMPILED: [&str; 4] = [
+    "examples/wgpu_fog.rs",
+    "bevy/examples/quick_start.rs",
+    "web/src/page.rs",
+    "web/src/readback.rs",
+];
 
 /// The kinds of fenced block the guides may hold, each checked here.
 const KINDS: [&str; 7] = ["rust", "wgsl", "hlsl", "glsl", "metal", "sh", "text"];
