@@ -71,11 +71,14 @@ pub fn cargo(channel: &str, args: &[&str]) -> Command {
     cmd
 }
 
-/// What only the root suite uses: its dev build, its test scratch space, the independent
-/// compilers' venv and the Dawn packages (all rebuilt by the next `cargo xtask test`).
-const ROOT_ONLY: [&str; 5] = [
+/// What only the root suite uses: its dev build, its test scratch space, the web page's
+/// wasm build (and the host side of that release build), the independent compilers'
+/// venv and the Dawn packages (all rebuilt by the next `cargo xtask test`).
+const ROOT_ONLY: [&str; 7] = [
     "target/debug",
     "target/tmp",
+    "target/release",
+    "target/wasm32-unknown-unknown",
     "target/tools",
     "tools/dawn/node_modules",
     "examples/webgpu-node/node_modules",
