@@ -9,6 +9,7 @@
 use std::collections::HashMap;
 use std::path::PathBuf;
 use std::process::{Child, Command, Stdio};
+use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::{Duration, Instant};
 
 use volfog_web::analytic::analytic_scene;
@@ -36,11 +37,13 @@ struct Browser(Child);
 impl Browser {
     fn open(url: &str, webgpu: bool) -> Self {
         let binary = std::env::var("VOLFOG_CHROMIUM").unwrap_or_else(|_| CHROMIUM.to_string());
-        let profile = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(if webgpu {
-            "chromium-webgpu"
-        } else {
-            "chromium-webgl2"
-        });
+        // A profile per launch: tests run in parallel, and a second Chromium on the
+        // same profile would hand its page to the first and exit.
+        static LAUNCHES: AtomicUsize = AtomicUsize::new(0);
+        let profile = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(format!(
+            "chromium-{}",
+            LAUNCHES.fetch_add(1, Ordering::Relaxed)
+        ));
         let _ = std::fs::remove_dir_all(&profile);
         let gpu_flags: &[&str] = if webgpu {
             &[
