@@ -334,8 +334,8 @@ pub fn check_device(device: &wgpu::Device, config: &FogConfig) -> Result<(), Fog
         return Err(FogError::MissingCapability {
             what: "blocking GPU readback",
             detail: "FogConfig.timestamps reads its queries back by waiting for the GPU, which \
-                     a browser's WebGPU cannot do; time passes on the web with the page's own \
-                     timestamp queries or performance.now()"
+                     a browser's WebGPU cannot do; on the web, time the passes with timestamp \
+                     queries read back asynchronously, or with performance.now()"
                 .to_string(),
         });
     }
