@@ -1,14 +1,17 @@
 //! The web demo's frame, in wgpu alone (no windowing, no platform calls): the sun's
-//! shadow map, the lit scene with its depth, `VolumetricFog` (shadowed sun, lights,
-//! local volumes, depth culling) and its apply into the lit image. The page runs it on
+//! shadow map, the sky (`SkyLight`: Nishita single scattering solved into its table and
+//! drawn per pixel), the lit scene with its depth, `VolumetricFog` (shadowed sun,
+//! lights, local volumes, depth culling) and its apply into the lit image. The page runs it on
 //! the browser's WebGPU, the browser test natively on lavapipe.
 
 use std::borrow::Cow;
 
 use glam::{Mat4, Vec4};
+use volfog::limits::InvalidValue;
 use volfog::pipeline::apply::ApplyPipeline;
+use volfog::pipeline::sky::{SkyError, SkyLight};
 use volfog::pipeline::{FogConfig, FogError, VolumetricFog};
-use volfog::uniforms::{FogLight, LocalVolume};
+use volfog::uniforms::{FogLight, FrustumRays, LocalVolume, SkyAtmosphere};
 use wgpu::util::DeviceExt;
 
 use crate::scene::{self, Params, Vertex};
@@ -18,6 +21,20 @@ pub const COLOR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
 const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 /// Largest image side (WebGPU's default 2D texture limit).
 const MAX_SIDE: u32 = 8192;
+
+/// A frame could not be built or recorded.
+#[derive(Debug, thiserror::Error)]
+pub enum RenderError {
+    /// A value is out of range (the image size, an input of the frame).
+    #[error(transparent)]
+    Invalid(#[from] InvalidValue),
+    /// The fog refused its configuration, the device or a frame.
+    #[error(transparent)]
+    Fog(#[from] FogError),
+    /// The sky's passes could not be built.
+    #[error(transparent)]
+    Sky(#[from] SkyError),
+}
 
 /// The scene uniform (`Scene` in `scene.wgsl`).
 #[repr(C)]
@@ -40,6 +57,8 @@ pub struct Renderer {
     pub size: (u32, u32),
     /// The fog.
     pub fog: VolumetricFog,
+    /// The sky behind the scene.
+    pub sky: SkyLight,
     /// The lit image once fogged (`COLOR_FORMAT`, copyable).
     pub color: wgpu::Texture,
     config: FogConfig,
@@ -56,6 +75,8 @@ pub struct Renderer {
     lit_pipeline: wgpu::RenderPipeline,
     lights: [FogLight; 2],
     volumes: [LocalVolume; 2],
+    animated: bool,
+    frames: u32,
 }
 
 fn texture(
@@ -97,7 +118,11 @@ fn uniform_entry(binding: u32, visibility: wgpu::ShaderStages) -> wgpu::BindGrou
 impl Renderer {
     /// The scene and its fog at `size` pixels (1..=8192 per side); `animated` as in
     /// [`scene::config`].
-    pub fn new(device: &wgpu::Device, size: (u32, u32), animated: bool) -> Result<Self, FogError> {
+    pub fn new(
+        device: &wgpu::Device,
+        size: (u32, u32),
+        animated: bool,
+    ) -> Result<Self, RenderError> {
         volfog::limits::check(
             (1..=MAX_SIDE).contains(&size.0) && (1..=MAX_SIDE).contains(&size.1),
             "Renderer.size",
@@ -107,6 +132,7 @@ impl Renderer {
         let config = scene::config(animated);
         let mut fog = VolumetricFog::new(device, &config)?;
         let apply = fog.create_apply(device, COLOR_FORMAT)?;
+        let sky = SkyLight::new(device, COLOR_FORMAT)?;
         let attachment =
             wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING;
         let shadow_side = config.esm_resolution * 4;
@@ -290,6 +316,7 @@ impl Renderer {
         Ok(Self {
             size,
             fog,
+            sky,
             color,
             config,
             apply,
@@ -305,17 +332,19 @@ impl Renderer {
             lit_pipeline,
             lights: scene::lights(),
             volumes: scene::local_volumes(),
+            animated,
+            frames: 0,
         })
     }
 
     /// Records one frame for `params` (clamped to the sliders' ranges): shadow map,
-    /// lit image, fog, fog applied to [`Renderer::color`].
+    /// sky, lit image, fog, fog applied to [`Renderer::color`].
     pub fn frame(
         &mut self,
         device: &wgpu::Device,
         queue: &wgpu::Queue,
         params: &Params,
-    ) -> Result<wgpu::CommandBuffer, FogError> {
+    ) -> Result<wgpu::CommandBuffer, RenderError> {
         let params = params.clamped();
         let inputs = scene::frame_inputs(
             &self.config,
@@ -342,6 +371,18 @@ impl Renderer {
         };
         queue.write_buffer(&self.scene_buffer, 0, bytemuck::bytes_of(&uniform));
         self.fog.prepare(queue, &inputs)?;
+        // The sun moves with its slider: the whole sky table in the first frame (and in
+        // every frame of a still one), then a band of 8 of its 64 rows per frame.
+        self.sky
+            .set_atmosphere(SkyAtmosphere::earth(sun.direction)?)?;
+        let rays = FrustumRays::new(inputs.view_from_world.inverse(), inputs.clip_from_view)?;
+        let rows = if self.animated && self.frames > 0 {
+            8
+        } else {
+            64
+        };
+        self.sky.prepare(queue, &rays, rows)?;
+        self.frames += 1;
 
         let mut encoder = device.create_command_encoder(&Default::default());
         {
@@ -357,24 +398,24 @@ impl Renderer {
             pass.draw(0..self.vertex_count, 0..1);
         }
         let color_view = self.color.create_view(&Default::default());
+        // The sky first (its pass has no depth), then the scene over it; the fog's
+        // apply adds the tail over the sky.
+        self.sky.encode_solve(&mut encoder);
+        {
+            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                label: Some("web sky"),
+                color_attachments: &[Some(color_attachment(
+                    &color_view,
+                    wgpu::LoadOp::Clear(wgpu::Color::BLACK),
+                ))],
+                ..Default::default()
+            });
+            self.sky.draw(&mut pass);
+        }
         {
             let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
                 label: Some("web lit"),
-                color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                    view: &color_view,
-                    depth_slice: None,
-                    resolve_target: None,
-                    ops: wgpu::Operations {
-                        // The sky: fog's apply adds the tail over it.
-                        load: wgpu::LoadOp::Clear(wgpu::Color {
-                            r: 0.35,
-                            g: 0.5,
-                            b: 0.8,
-                            a: 1.0,
-                        }),
-                        store: wgpu::StoreOp::Store,
-                    },
-                })],
+                color_attachments: &[Some(color_attachment(&color_view, wgpu::LoadOp::Load))],
                 depth_stencil_attachment: Some(depth_attachment(&self.depth_view)),
                 ..Default::default()
             });
@@ -388,6 +429,21 @@ impl Renderer {
         self.fog
             .record_apply(&mut encoder, &self.apply, &color_view, &self.depth_group)?;
         Ok(encoder.finish())
+    }
+}
+
+fn color_attachment(
+    view: &wgpu::TextureView,
+    load: wgpu::LoadOp<wgpu::Color>,
+) -> wgpu::RenderPassColorAttachment<'_> {
+    wgpu::RenderPassColorAttachment {
+        view,
+        depth_slice: None,
+        resolve_target: None,
+        ops: wgpu::Operations {
+            load,
+            store: wgpu::StoreOp::Store,
+        },
     }
 }
 
@@ -453,15 +509,10 @@ impl Display {
     pub fn record(&self, encoder: &mut wgpu::CommandEncoder, target: &wgpu::TextureView) {
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("web display"),
-            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                view: target,
-                depth_slice: None,
-                resolve_target: None,
-                ops: wgpu::Operations {
-                    load: wgpu::LoadOp::Clear(wgpu::Color::BLACK),
-                    store: wgpu::StoreOp::Store,
-                },
-            })],
+            color_attachments: &[Some(color_attachment(
+                target,
+                wgpu::LoadOp::Clear(wgpu::Color::BLACK),
+            ))],
             ..Default::default()
         });
         pass.set_pipeline(&self.pipeline);
