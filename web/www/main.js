@@ -1,7 +1,9 @@
 // The page: WebGPU runs the froxel pipeline from wasm (pkg/, built by wasm-bindgen);
 // without WebGPU the WebGL2 tier draws the closed-form fog (webgl2.js). `?check=WxH`
 // runs the browser test's fixed frame instead of the demo and posts what it read back
-// to the server that served the page; `?tier=webgl2` asks for the WebGL2 tier.
+// to the server that served the page; `?frames=N` runs the demo and posts its frame
+// time and the canvas's statistics after N frames; `?tier=webgl2` asks for the WebGL2
+// tier.
 
 const query = new URLSearchParams(location.search);
 // A test is watching: errors and results are posted to the server.
