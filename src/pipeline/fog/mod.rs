@@ -48,6 +48,7 @@ mod groups;
 mod inputs;
 mod local_shadows;
 mod resources;
+mod shared;
 mod textures;
 mod timings;
 mod user_textures;
@@ -58,6 +59,7 @@ pub use error::FogError;
 pub use inputs::{FrameInputs, FrameUniforms};
 pub use local_shadows::{LocalShadowStats, ShadowedLight};
 pub use resources::{SCENE_DEPTH_FORMATS, SHADOW_MAP_FORMATS, VOLUME_FORMAT, check_device};
+pub use shared::SharedFog;
 pub use timings::{FogPass, PassTimings};
 
 use super::apply::{FogResources, fog_bind_group, fog_layout_entries, fog_sampler};

@@ -18,6 +18,23 @@ pub const SHADOW_MAP_FORMATS: [wgpu::TextureFormat; 3] = [
 ];
 
 pub(crate) fn volume_texture(device: &wgpu::Device, label: &str, size: UVec3) -> wgpu::Texture {
+    volume_texture_for(
+        device,
+        label,
+        size,
+        wgpu::TextureUsages::STORAGE_BINDING
+            | wgpu::TextureUsages::TEXTURE_BINDING
+            | wgpu::TextureUsages::COPY_SRC,
+    )
+}
+
+/// An rgba16float 3D texture of `size` texels with `usage`.
+pub(crate) fn volume_texture_for(
+    device: &wgpu::Device,
+    label: &str,
+    size: UVec3,
+    usage: wgpu::TextureUsages,
+) -> wgpu::Texture {
     device.create_texture(&wgpu::TextureDescriptor {
         label: Some(label),
         size: wgpu::Extent3d {
@@ -29,9 +46,7 @@ pub(crate) fn volume_texture(device: &wgpu::Device, label: &str, size: UVec3) ->
         sample_count: 1,
         dimension: wgpu::TextureDimension::D3,
         format: VOLUME_FORMAT,
-        usage: wgpu::TextureUsages::STORAGE_BINDING
-            | wgpu::TextureUsages::TEXTURE_BINDING
-            | wgpu::TextureUsages::COPY_SRC,
+        usage,
         view_formats: &[],
     })
 }
@@ -77,7 +92,10 @@ pub(crate) fn uniform_buffer(device: &wgpu::Device, label: &str, size: usize) ->
     device.create_buffer(&wgpu::BufferDescriptor {
         label: Some(label),
         size: size as u64,
-        usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+        // COPY_SRC: VolumetricFog::encode_share copies the fog group's uniforms.
+        usage: wgpu::BufferUsages::UNIFORM
+            | wgpu::BufferUsages::COPY_DST
+            | wgpu::BufferUsages::COPY_SRC,
         mapped_at_creation: false,
     })
 }
