@@ -1,11 +1,12 @@
 //! `cargo run -p volfog-bevy --release --example fog_bench [-- --width W --height H]`:
-//! the fog scene in three apps one after the other in this process, at the same size:
-//! without fog, with volfog's froxel fog (`FroxelFog`) and with Bevy's built-in
+//! the fog scene in four apps one after the other in this process, at the same size:
+//! without fog, with volfog's froxel fog (`FroxelFog` at the plugin's default tile
+//! size, and at 8-pixel tiles, 2.25 times the froxels) and with Bevy's built-in
 //! ray-marched `VolumetricFog` (its default 64 steps, one `FogVolume` around the
 //! scene, the sun as its volumetric light). Each frame is timed from the start of
 //! `App::update` to the GPU going idle; the report gives the median frame of each,
-//! the fog's cost over the fog-free frame and their ratio, and writes both fogged
-//! images as PNGs next to a JSON report.
+//! the fog's cost over the fog-free frame and their ratio, the difference of the two
+//! volfog images, and writes the fogged images as PNGs next to a JSON report.
 
 #[path = "fog_scene/scene.rs"]
 mod scene;
@@ -14,10 +15,12 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 use bevy::diagnostic::DiagnosticsStore;
+use bevy::prelude::{Entity, Vec4, With};
 use bevy::render::RenderApp;
 use bevy::render::renderer::RenderDevice;
 use clap::Parser;
-use scene::{FogKind, SceneOptions};
+use scene::{FogKind, SceneCamera, SceneOptions};
+use volfog_bevy::FroxelFog;
 
 /// Times the scene without fog, with volfog and with Bevy's fog.
 #[derive(Parser)]
@@ -43,6 +46,16 @@ struct Timed {
     median_ms: f64,
     /// GPU time of each render span over the timed frames (ms, median), by path.
     gpu_spans: Vec<(String, f64)>,
+    /// The last frame, linear rgba.
+    pixels: Vec<Vec4>,
+}
+
+/// (median, 95th percentile, mean) of the per-pixel relative differences of two
+/// images.
+fn image_difference(a: &[Vec4], b: &[Vec4]) -> (f32, f32, f32) {
+    let d = scene::relative_differences(a, b);
+    let mean = d.iter().sum::<f32>() / d.len() as f32;
+    (d[d.len() / 2], d[d.len() * 95 / 100], mean)
 }
 
 /// The median of the last `n` values of every `render/.../elapsed_gpu` diagnostic.
@@ -63,9 +76,12 @@ fn gpu_spans(app: &bevy::app::App, n: usize) -> Vec<(String, f64)> {
     spans
 }
 
+/// Runs the scene with `kind` of fog; `tile_size` replaces the froxel fog's tile size
+/// (the scene's 8) with another.
 fn run(
     kind: FogKind,
     name: &'static str,
+    tile_size: Option<u32>,
     args: &Args,
 ) -> Result<Timed, Box<dyn std::error::Error>> {
     let options = SceneOptions {
@@ -76,6 +92,16 @@ fn run(
         ..SceneOptions::default()
     };
     let mut app = scene::app(&options);
+    if let Some(tile_size) = tile_size {
+        app.update();
+        let world = app.world_mut();
+        let mut cameras = world.query_filtered::<Entity, With<SceneCamera>>();
+        let camera = cameras.single(world)?;
+        world
+            .get_mut::<FroxelFog>(camera)
+            .ok_or("the scene camera has a FroxelFog")?
+            .tile_size = tile_size;
+    }
     let idle = |app: &bevy::app::App| {
         let device = app.sub_app(RenderApp).world().resource::<RenderDevice>();
         device
@@ -120,16 +146,19 @@ fn run(
         frames_ms,
         median_ms,
         gpu_spans,
+        pixels,
     })
 }
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args = Args::parse();
     std::fs::create_dir_all(&args.out)?;
+    let default_tile = FroxelFog::default().tile_size;
     let runs = [
-        run(FogKind::None, "no_fog", &args)?,
-        run(FogKind::Froxel, "volfog", &args)?,
-        run(FogKind::BevyBuiltIn, "bevy_volumetric_fog", &args)?,
+        run(FogKind::None, "no_fog", None, &args)?,
+        run(FogKind::Froxel, "volfog", Some(default_tile), &args)?,
+        run(FogKind::BevyBuiltIn, "bevy_volumetric_fog", None, &args)?,
+        run(FogKind::Froxel, "volfog_tile8", Some(8), &args)?,
     ];
     let span = |t: &Timed, key: &str| {
         t.gpu_spans
@@ -139,6 +168,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     };
     let gpu_volfog = span(&runs[1], "volfog");
     let gpu_bevy = span(&runs[2], "volumetric_lighting");
+    let gpu_tile8 = span(&runs[3], "volfog");
+    let (median, p95, mean) = image_difference(&runs[1].pixels, &runs[3].pixels);
     let base = runs[0].median_ms;
     let cost = |t: &Timed| (t.median_ms - base).max(0.0);
     let (ours, bevys) = (cost(&runs[1]), cost(&runs[2]));
@@ -154,20 +185,28 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             "frames_ms": t.frames_ms,
             "gpu_spans_ms": t.gpu_spans.iter().map(|(p, ms)| (p.clone(), *ms)).collect::<std::collections::BTreeMap<_, _>>(),
         })).collect::<Vec<_>>(),
-        "fog_gpu_ms": { "volfog": gpu_volfog, "bevy_volumetric_fog": gpu_bevy },
+        "default_tile_size": default_tile,
+        "fog_gpu_ms": { "volfog": gpu_volfog, "bevy_volumetric_fog": gpu_bevy, "volfog_tile8": gpu_tile8 },
         "fog_gpu_ratio_bevy_over_volfog": gpu_volfog.zip(gpu_bevy).map(|(a, b)| b / a),
+        "fog_gpu_ratio_bevy_over_volfog_tile8": gpu_tile8.zip(gpu_bevy).map(|(a, b)| b / a),
+        "image_difference_default_vs_tile8": { "median": median, "p95": p95, "mean": mean },
         "fog_cost_ms": { "volfog": ours, "bevy_volumetric_fog": bevys },
         "frame_ratio_bevy_over_volfog": frame_ratio,
         "fog_cost_ratio_bevy_over_volfog": cost_ratio,
     });
     let path = args.out.join("fog_bench.json");
     std::fs::write(&path, serde_json::to_string_pretty(&report)?)?;
-    if let (Some(a), Some(b)) = (gpu_volfog, gpu_bevy) {
+    if let (Some(a), Some(b), Some(t)) = (gpu_volfog, gpu_bevy, gpu_tile8) {
         println!(
-            "GPU time of the fog (timestamp queries): volfog {a:.1} ms, Bevy's VolumetricFog {b:.1} ms ({:.1}x)",
-            b / a
+            "GPU time of the fog (timestamp queries): volfog {a:.1} ms (tile {default_tile}), Bevy's VolumetricFog {b:.1} ms ({:.1}x, target 10x: {}); volfog at tile 8 {t:.1} ms ({:.1}x)",
+            b / a,
+            if b / a >= 10.0 { "met" } else { "missed" },
+            b / t
         );
     }
+    println!(
+        "image at tile {default_tile} against tile 8: relative difference median {median:.2e}, p95 {p95:.2e}, mean {mean:.2e}"
+    );
     println!(
         "{}x{}: frame {:.1} ms without fog, {:.1} ms with volfog, {:.1} ms with Bevy's VolumetricFog; fog cost {ours:.1} ms vs {bevys:.1} ms ({cost_ratio:.1}x); report {}",
         args.width,

@@ -16,7 +16,7 @@
 //!     medium: FogMediumSettings { density: 0.05, height_falloff: 0.1, ..default() },
 //!     ..default()
 //! };
-//! assert_eq!((fog.tile_size, fog.slices), (8, 128)); // 8x8-pixel froxels, 128 slices
+//! assert_eq!((fog.tile_size, fog.slices), (12, 128)); // 12x12-pixel froxels, 128 slices
 //!
 //! let mut world = World::new();
 //! let camera = world.spawn((Camera3d::default(), fog.clone())).id();

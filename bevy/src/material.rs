@@ -6,7 +6,10 @@
 //! taken): its layout starts with the fog group of `volfog::bindings` at bindings
 //! 0..4 ([`fog_layout_entries`]), its bind group with the fog's resources
 //! ([`push_fog_bindings`]), and its pipeline sets the WESL constant
-//! `VOLFOG_FOG_GROUP` to the material group ([`set_fog_group`]).
+//! `VOLFOG_FOG_GROUP` to the material group ([`set_fog_group`]). One group serves
+//! every view: with several fog cameras it holds a `SharedFog` that each camera's fog
+//! pass fills before its transparent pass, so materials drawn in the transparent pass
+//! read the fog of the camera drawing them.
 
 use bevy::asset::AssetId;
 use bevy::ecs::system::SystemParamItem;
@@ -33,8 +36,9 @@ const PARAMS_BINDING: u32 = 5;
 
 /// An unlit transparent surface with the froxel fog applied between the camera and
 /// it (`shaders/fogged_glass.wesl`): alpha-blended over the fogged background, it gets
-/// exactly the fog the fullscreen pass gives an opaque surface at its depth. It reads
-/// the fog of the first fog camera (one fog camera per app).
+/// exactly the fog the fullscreen pass gives an opaque surface at its depth. Each fog
+/// camera's materials read that camera's fog ([`FogViews`]); a camera without
+/// `FroxelFog` draws them with the fog of the camera drawn before it.
 #[derive(Asset, TypePath, Clone, Debug, PartialEq)]
 pub struct FoggedGlassMaterial {
     /// Linear colour; alpha is the coverage.

@@ -10,81 +10,26 @@ use bevy::render::diagnostic::RecordDiagnostics;
 use bevy::render::renderer::{RenderContext, RenderDevice, RenderQueue, ViewQuery};
 use bevy::render::view::{ViewDepthStencilTexture, ViewTarget};
 use volfog::pipeline::apply::ApplyPipeline;
-use volfog::pipeline::{FogError, VolumetricFog};
+use volfog::pipeline::{FogError, SharedFog, VolumetricFog};
 
 use crate::extract::ExtractedFroxelFog;
 use crate::light_shadows::{BevyLights, BevyShadowLayout};
 use crate::msaa::DepthResolve;
 
 /// The fog of every fog camera, by render-world view entity.
+///
+/// Materials bind one group for every view. With one fog camera it holds that
+/// camera's fog resources; with several, a [`SharedFog`] that each camera's fog pass
+/// fills before its transparent pass, so each camera's materials read its own fog.
 #[derive(Resource, Default)]
 pub struct FogViews {
     views: HashMap<Entity, ViewFog>,
-    /// What materials bind while no camera has fog: no fog at all.
-    fallback: Option<FallbackFog>,
-}
-
-/// A fog group that applies no fog: a 1 x 1 x 1 volume holding (0, 0, 0, 1), no tail.
-pub struct FallbackFog {
-    froxels: wgpu::Buffer,
-    volume: wgpu::TextureView,
-    tail: wgpu::Buffer,
-    view: wgpu::Buffer,
-    sampler: wgpu::Sampler,
-}
-
-impl FallbackFog {
-    fn new(device: &wgpu::Device, queue: &wgpu::Queue) -> Self {
-        use volfog::glam::UVec3;
-        use volfog::uniforms::{FogView, Froxels, HeightFog, to_uniform_bytes};
-        use wgpu::util::DeviceExt;
-        let buffer = |label, contents: &[u8]| {
-            device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                label: Some(label),
-                contents,
-                usage: wgpu::BufferUsages::UNIFORM,
-            })
-        };
-        let projection =
-            volfog::glam::camera::rh::proj::directx::perspective_infinite_reverse(1.0, 1.0, 0.1);
-        let froxels = Froxels::new(projection, UVec3::ONE, 0.5, 128.0, 0.0)
-            .expect("a valid one-froxel placement");
-        let texture = device.create_texture(&wgpu::TextureDescriptor {
-            label: Some("volfog no fog"),
-            size: wgpu::Extent3d {
-                width: 1,
-                height: 1,
-                depth_or_array_layers: 1,
-            },
-            mip_level_count: 1,
-            sample_count: 1,
-            dimension: wgpu::TextureDimension::D3,
-            format: volfog::pipeline::VOLUME_FORMAT,
-            usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
-            view_formats: &[],
-        });
-        let clear: Vec<u8> = [0.0f32, 0.0, 0.0, 1.0]
-            .iter()
-            .flat_map(|v| half::f16::from_f32(*v).to_le_bytes())
-            .collect();
-        queue.write_texture(
-            texture.as_image_copy(),
-            &clear,
-            wgpu::TexelCopyBufferLayout {
-                offset: 0,
-                bytes_per_row: Some(8),
-                rows_per_image: Some(1),
-            },
-            texture.size(),
-        );
-        Self {
-            froxels: buffer("volfog no fog froxels", &froxels.to_bytes()),
-            volume: texture.create_view(&Default::default()),
-            tail: buffer("volfog no fog tail", &HeightFog::none().to_bytes()),
-            view: buffer("volfog no fog view", &to_uniform_bytes(&FogView::default())),
-            sampler: volfog::pipeline::apply::fog_sampler(device),
-        }
-    }
+    /// With two or more fog cameras: the group their materials read, sized for the
+    /// volume of [`FogViews::primary`].
+    shared: Option<SharedFog>,
+    /// What materials bind while no camera has fog: a one-froxel group that holds no
+    /// fog and no tail.
+    fallback: Option<SharedFog>,
 }
 
 impl FogViews {
@@ -103,24 +48,28 @@ impl FogViews {
         self.views.is_empty()
     }
 
-    /// The fog of the view with the lowest entity index: the one forward materials
-    /// read (they support one fog camera per app).
+    /// The fog of the view with the lowest entity index (the one whose volume size
+    /// the shared group of several fog cameras takes).
     pub fn primary(&self) -> Option<&ViewFog> {
         self.views.iter().min_by_key(|(e, _)| **e).map(|(_, v)| v)
     }
 
-    /// The resources a material binds: those of [`FogViews::primary`], or while no
-    /// camera has fog, a group that applies none (`None` before the first frame).
+    /// The group the materials of several fog cameras read (`None` with fewer than
+    /// two).
+    pub fn shared(&self) -> Option<&SharedFog> {
+        self.shared.as_ref()
+    }
+
+    /// The resources a material binds: with one fog camera its own, with several the
+    /// shared group each camera fills before drawing its materials, and while no
+    /// camera has fog a group that applies none (`None` before the first frame).
     pub fn material_resources(&self) -> Option<volfog::pipeline::apply::FogResources<'_>> {
+        if let Some(shared) = &self.shared {
+            return Some(shared.resources());
+        }
         match (self.primary(), &self.fallback) {
             (Some(view), _) => Some(view.fog.fog_resources()),
-            (None, Some(f)) => Some(volfog::pipeline::apply::FogResources {
-                froxels: &f.froxels,
-                integrated: &f.volume,
-                tail: &f.tail,
-                view: &f.view,
-                sampler: &f.sampler,
-            }),
+            (None, Some(fallback)) => Some(fallback.resources()),
             (None, None) => None,
         }
     }
@@ -163,7 +112,7 @@ pub fn build_froxel_fog(
     mut warned: Local<HashSet<Entity>>,
 ) {
     if fogs.fallback.is_none() {
-        fogs.fallback = Some(FallbackFog::new(device.wgpu_device(), &queue));
+        fogs.fallback = SharedFog::new(device.wgpu_device(), &queue, volfog::glam::UVec3::ONE).ok();
     }
     let live: HashSet<Entity> = views.iter().map(|(e, _)| e).collect();
     fogs.views.retain(|e, _| live.contains(e));
@@ -200,6 +149,29 @@ pub fn build_froxel_fog(
             }
         }
     }
+    update_shared(&mut fogs, device.wgpu_device(), &queue);
+}
+
+/// Keeps the shared group of several fog cameras, sized for the primary's volume (a
+/// new one when that size changes; the main world refreshes the materials then, as
+/// the fog settings or the viewport changed).
+fn update_shared(fogs: &mut FogViews, device: &wgpu::Device, queue: &wgpu::Queue) {
+    let size = (fogs.views.len() >= 2)
+        .then(|| fogs.primary().map(|v| v.fog.config().volume_size))
+        .flatten();
+    let Some(size) = size else {
+        fogs.shared = None;
+        return;
+    };
+    if fogs
+        .shared
+        .as_ref()
+        .is_some_and(|s| s.volume_size() == size)
+    {
+        return;
+    }
+    // The size is that of a fog that was built, so it is valid.
+    fogs.shared = SharedFog::new(device, queue, size).ok();
 }
 
 /// Binds each view's shadow maps (the sun's cascades, the point and spot lights' maps)
@@ -346,6 +318,7 @@ pub fn froxel_fog_pass(
     view: ViewQuery<(Entity, &ViewTarget), With<ExtractedFroxelFog>>,
     fogs: Res<FogViews>,
     mut ctx: RenderContext,
+    mut warned: Local<HashSet<Entity>>,
 ) {
     let (entity, target) = view.into_inner();
     let Some(fog) = fogs.get(entity).filter(|f| f.ready) else {
@@ -382,6 +355,17 @@ pub fn froxel_fog_pass(
             fog.fog.draw_apply(&mut pass, apply, depth_group)
         }
     });
+    // Several fog cameras: this camera's materials, drawn next, read its fog.
+    if let (Some(shared), Ok(())) = (fogs.shared(), &result)
+        && let Err(error) = fog.fog.encode_share(encoder, shared)
+        && warned.insert(entity)
+    {
+        warn!(
+            "volfog: view {entity}: {error}; its materials read the fog of the camera \
+             drawn before it (give every fog camera whose materials read the fog the same \
+             slices, tile size and viewport size)"
+        );
+    }
     encoder.pop_debug_group();
     span.end(ctx.command_encoder());
     if let Err(error) = result {

@@ -89,7 +89,14 @@ fn app() -> App {
                 synchronous_pipeline_compilation: true,
                 ..default()
             })
-            .disable::<bevy::log::LogPlugin>(),
+            .disable::<bevy::log::LogPlugin>()
+            // Headless: no window and no event loop.
+            .set(bevy::window::WindowPlugin {
+                primary_window: None,
+                exit_condition: bevy::window::ExitCondition::DontExit,
+                ..default()
+            })
+            .disable::<bevy::winit::WinitPlugin>(),
     )
     .add_plugins(VolumetricFogPlugin)
     .insert_resource(GlobalAmbientLight {

@@ -71,6 +71,34 @@ pub fn cargo(channel: &str, args: &[&str]) -> Command {
     cmd
 }
 
+/// The `fog_scene` example in a window on a virtual X display (Xvfb): 12 frames, then
+/// a screenshot of the window that the example checks is drawn (not flat) and writes
+/// to `target/tmp/fog_scene_window.png`.
+pub fn window(channel: &str) -> Command {
+    let screenshot = root()
+        .join("target")
+        .join("tmp")
+        .join("fog_scene_window.png");
+    let _ = std::fs::create_dir_all(screenshot.parent().expect("a folder"));
+    let inner = cargo(channel, &[]);
+    let mut cmd = Command::new("xvfb-run");
+    cmd.args(["-a", "-s", "-screen 0 1280x720x24"])
+        .arg(inner.get_program())
+        .args(inner.get_args())
+        .args(["run", "--example", "fog_scene", "--"])
+        .args(["--width", "640", "--height", "360", "--exit-after", "12"])
+        .arg("--screenshot")
+        .arg(screenshot)
+        .current_dir(root().join("bevy"));
+    for (key, value) in inner.get_envs() {
+        match value {
+            Some(v) => cmd.env(key, v),
+            None => cmd.env_remove(key),
+        };
+    }
+    cmd
+}
+
 /// What only the root suite uses: its dev build, its test scratch space, the web page's
 /// wasm build (and the host side of that release build), the independent compilers'
 /// venv and the Dawn packages (all rebuilt by the next `cargo xtask test`).

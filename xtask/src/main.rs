@@ -131,6 +131,8 @@ fn main() {
                 &[&["test"], args.as_slice()].concat(),
             ))
             .env("CI", "true"));
+            // Its example in a window, as a Bevy user runs it.
+            run(gpu_env(&mut bevy::window(&channel)));
         }
         _ => usage(),
     }

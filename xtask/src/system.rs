@@ -126,6 +126,9 @@ fn missing(needs: Needs) -> Vec<&'static str> {
         "libllvm19",
         // The browser the web page is tested in (WebGPU on its bundled SwiftShader).
         "chromium",
+        // A virtual X display for the Bevy example's window.
+        "xvfb",
+        "xauth",
     ] {
         if !dpkg_installed(package) {
             missing.push(package);

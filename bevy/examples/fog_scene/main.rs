@@ -1,17 +1,30 @@
-//! `cargo run -p volfog-bevy --example fog_scene [-- --out DIR --width W --height H]`:
-//! the fog scene rendered headless with volfog's froxel fog, written to
-//! `DIR/fog_scene.png` (default: `out/bevy` at the repository root).
+//! `cargo run -p volfog-bevy --example fog_scene [-- --width W --height H]`: the fog
+//! scene with volfog's froxel fog in a window with a fly camera when a display exists
+//! (right mouse button to look, W A S D E Q to move, Shift faster, Escape to quit);
+//! headless otherwise or with `--headless`: rendered into an image and written to
+//! `DIR/fog_scene.png` (`--out DIR`, default: `out/bevy` at the repository root).
 
 mod scene;
+mod window;
 
 use std::path::PathBuf;
 
+use bevy::app::AppExit;
 use clap::Parser;
 use scene::{FogKind, SceneOptions};
 
-/// Renders the fog scene to a PNG.
+/// Shows the fog scene in a window, or renders it to a PNG.
 #[derive(Parser)]
 struct Args {
+    /// Render headless to a PNG even when a display exists.
+    #[arg(long)]
+    headless: bool,
+    /// In a window: quit after this many frames.
+    #[arg(long)]
+    exit_after: Option<u32>,
+    /// In a window, with --exit-after: save a screenshot of the window as a PNG then.
+    #[arg(long)]
+    screenshot: Option<PathBuf>,
     /// Output folder.
     #[arg(long, default_value = concat!(env!("CARGO_MANIFEST_DIR"), "/../out/bevy"))]
     out: PathBuf,
@@ -21,7 +34,7 @@ struct Args {
     /// Image height in pixels.
     #[arg(long, default_value_t = 540)]
     height: u32,
-    /// Frames rendered before the capture (temporal reprojection settles).
+    /// Headless: frames rendered before the capture (temporal reprojection settles).
     #[arg(long, default_value_t = 8)]
     frames: u32,
 }
@@ -34,6 +47,12 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         fog: FogKind::Froxel,
         ..SceneOptions::default()
     };
+    if !args.headless && window::display_exists() {
+        return match window::run(&options, args.exit_after, args.screenshot.clone()) {
+            AppExit::Success => Ok(()),
+            AppExit::Error(code) => Err(format!("the app exited with code {code}").into()),
+        };
+    }
     let mut app = scene::app(&options);
     let pixels = scene::capture(&mut app, args.frames);
     if pixels.iter().any(|p| !p.is_finite()) {

@@ -21,6 +21,8 @@ use bevy::render::render_resource::{Extent3d, TextureDimension, TextureFormat, T
 use bevy::render::renderer::{RenderAdapter, RenderAdapterInfo, RenderDevice, RenderQueue};
 use bevy::render::settings::{RenderCreation, WgpuSettings};
 use bevy::render::{RenderApp, RenderPlugin};
+use bevy::window::ExitCondition;
+use bevy::winit::WinitPlugin;
 use volfog_bevy::{
     BevyFogCompat, ExtractedFroxelFog, FogMediumSettings, FogViews, FogVolumeShape,
     FoggedGlassMaterial, FroxelFog, FroxelFogVolume, VolumetricFogPlugin,
@@ -240,43 +242,90 @@ pub struct GlassSphere;
 #[derive(Component)]
 pub struct Sun;
 
-/// The render target and where its read-back pixels land.
+/// The scene camera's render target.
 #[derive(Resource, Clone)]
 pub struct Capture {
     pub image: Handle<Image>,
-    pub pixels: Arc<Mutex<Option<Vec<u8>>>>,
+}
+
+/// An `Rgba16Float` image a camera renders into and [`capture_images`] reads back.
+pub fn render_target(images: &mut Assets<Image>, width: u32, height: u32) -> Handle<Image> {
+    let mut target = Image::new_fill(
+        Extent3d {
+            width,
+            height,
+            depth_or_array_layers: 1,
+        },
+        TextureDimension::D2,
+        &[0; 8],
+        TextureFormat::Rgba16Float,
+        RenderAssetUsages::default(),
+    );
+    target.texture_descriptor.usage =
+        TextureUsages::TEXTURE_BINDING | TextureUsages::COPY_SRC | TextureUsages::RENDER_ATTACHMENT;
+    images.add(target)
 }
 
 /// A headless app that renders the scene into an `Rgba16Float` image.
 pub fn app(options: &SceneOptions) -> App {
+    build_app(options, None)
+}
+
+/// The scene's app: headless (`window` `None`: no window, no event loop; the camera
+/// renders into the [`Capture`] image), or with a window of its own that the scene
+/// camera renders into (run it with `App::run`).
+pub fn build_app(options: &SceneOptions, window: Option<Window>) -> App {
     let mut app = App::new();
-    app.add_plugins(
-        DefaultPlugins
-            .set(RenderPlugin {
-                render_creation: RenderCreation::Automatic(Box::new(WgpuSettings {
-                    backends: Some(wgpu::Backends::VULKAN),
-                    features: if options.gpu_timings {
-                        wgpu::Features::TIMESTAMP_QUERY
-                            | wgpu::Features::TIMESTAMP_QUERY_INSIDE_ENCODERS
-                            | wgpu::Features::TIMESTAMP_QUERY_INSIDE_PASSES
-                    } else {
-                        wgpu::Features::empty()
-                    },
-                    ..Default::default()
-                })),
-                synchronous_pipeline_compilation: true,
-                ..Default::default()
-            })
-            .disable::<bevy::log::LogPlugin>(),
-    )
-    .add_plugins(VolumetricFogPlugin)
-    .insert_resource(GlobalAmbientLight {
-        color: Color::linear_rgb(0.57, 0.71, 1.0),
-        brightness: 140.0,
+    // In a window the log is on: leave out the Vulkan validation layer, whose SPIR-V
+    // validator (Debian 12's) does not know the WGSL source-language tag naga writes
+    // into each module and logs an error per shader.
+    let mut instance_flags = wgpu::InstanceFlags::from_build_config().with_env();
+    if window.is_some() {
+        instance_flags.remove(wgpu::InstanceFlags::VALIDATION);
+    }
+    let render = RenderPlugin {
+        render_creation: RenderCreation::Automatic(Box::new(WgpuSettings {
+            backends: Some(wgpu::Backends::VULKAN),
+            instance_flags,
+            features: if options.gpu_timings {
+                wgpu::Features::TIMESTAMP_QUERY
+                    | wgpu::Features::TIMESTAMP_QUERY_INSIDE_ENCODERS
+                    | wgpu::Features::TIMESTAMP_QUERY_INSIDE_PASSES
+            } else {
+                wgpu::Features::empty()
+            },
+            ..Default::default()
+        })),
+        synchronous_pipeline_compilation: true,
         ..Default::default()
-    })
-    .insert_resource(options.clone_resource())
-    .add_systems(Startup, spawn);
+    };
+    let plugins = DefaultPlugins.set(render);
+    let headless = window.is_none();
+    match window {
+        Some(window) => app.add_plugins(plugins.set(WindowPlugin {
+            primary_window: Some(window),
+            ..Default::default()
+        })),
+        // Tests install their own log capture.
+        None => app.add_plugins(
+            plugins
+                .disable::<bevy::log::LogPlugin>()
+                .set(WindowPlugin {
+                    primary_window: None,
+                    exit_condition: ExitCondition::DontExit,
+                    ..Default::default()
+                })
+                .disable::<WinitPlugin>(),
+        ),
+    };
+    app.add_plugins(VolumetricFogPlugin)
+        .insert_resource(GlobalAmbientLight {
+            color: Color::linear_rgb(0.57, 0.71, 1.0),
+            brightness: 140.0,
+            ..Default::default()
+        })
+        .insert_resource(options.clone_resource())
+        .add_systems(Startup, spawn);
     if options.gpu_timings {
         app.add_plugins(bevy::render::diagnostic::RenderDiagnosticsPlugin);
     }
@@ -286,11 +335,15 @@ pub fn app(options: &SceneOptions) -> App {
     ) {
         app.add_plugins(BevyFogCompat);
     }
-    while app.plugins_state() == PluginsState::Adding {
-        bevy::tasks::tick_global_task_pools_on_main_thread();
+    // Headless, the app is driven by `update`; with a window, `App::run` finishes
+    // the plugins once the window (which the renderer needs) exists.
+    if headless {
+        while app.plugins_state() == PluginsState::Adding {
+            bevy::tasks::tick_global_task_pools_on_main_thread();
+        }
+        app.finish();
+        app.cleanup();
     }
-    app.finish();
-    app.cleanup();
     app
 }
 
@@ -312,23 +365,9 @@ fn spawn(
     mut images: ResMut<Assets<Image>>,
 ) {
     let options = &options.0;
-    let mut target = Image::new_fill(
-        Extent3d {
-            width: options.width,
-            height: options.height,
-            depth_or_array_layers: 1,
-        },
-        TextureDimension::D2,
-        &[0; 8],
-        TextureFormat::Rgba16Float,
-        RenderAssetUsages::default(),
-    );
-    target.texture_descriptor.usage =
-        TextureUsages::TEXTURE_BINDING | TextureUsages::COPY_SRC | TextureUsages::RENDER_ATTACHMENT;
-    let image = images.add(target);
+    let image = render_target(&mut images, options.width, options.height);
     commands.insert_resource(Capture {
         image: image.clone(),
-        pixels: Arc::new(Mutex::new(None)),
     });
 
     let stone = materials.add(StandardMaterial {
@@ -552,28 +591,68 @@ pub fn capture(app: &mut App, warmup: u32) -> Vec<Vec4> {
     for _ in 0..warmup {
         app.update();
     }
-    let capture = app.world().resource::<Capture>().clone();
-    *capture.pixels.lock().unwrap() = None;
-    let sink = capture.pixels.clone();
-    app.world_mut()
-        .spawn(Readback::texture(capture.image.clone()))
-        .observe(move |event: On<ReadbackComplete>, mut commands: Commands| {
-            *sink.lock().unwrap() = Some(event.data.clone());
-            commands.entity(event.entity).despawn();
-        });
+    // The scene (and its target) exists after the first frame.
+    let image = app.world().resource::<Capture>().image.clone();
+    capture_images(app, &[image], 0).remove(0)
+}
+
+/// Runs frames until read-backs of every image arrive (after `warmup` frames, all from
+/// the same frame's requests), and returns them as linear rgba.
+pub fn capture_images(app: &mut App, images: &[Handle<Image>], warmup: u32) -> Vec<Vec<Vec4>> {
+    for _ in 0..warmup {
+        app.update();
+    }
+    let sinks: Vec<Arc<Mutex<Option<Vec<u8>>>>> = images
+        .iter()
+        .map(|image| {
+            let sink = Arc::new(Mutex::new(None));
+            let filled = sink.clone();
+            app.world_mut()
+                .spawn(Readback::texture(image.clone()))
+                .observe(move |event: On<ReadbackComplete>, mut commands: Commands| {
+                    *filled.lock().unwrap() = Some(event.data.clone());
+                    commands.entity(event.entity).despawn();
+                });
+            sink
+        })
+        .collect();
     for _ in 0..20 {
         app.update();
-        if let Some(bytes) = capture.pixels.lock().unwrap().take() {
-            return bytes
-                .chunks_exact(8)
-                .map(|p| {
-                    let h = |i: usize| half::f16::from_le_bytes([p[2 * i], p[2 * i + 1]]).to_f32();
-                    Vec4::new(h(0), h(1), h(2), h(3))
+        if sinks.iter().all(|s| s.lock().unwrap().is_some()) {
+            return sinks
+                .iter()
+                .map(|s| {
+                    s.lock()
+                        .unwrap()
+                        .take()
+                        .unwrap()
+                        .chunks_exact(8)
+                        .map(|p| {
+                            let h = |i: usize| {
+                                half::f16::from_le_bytes([p[2 * i], p[2 * i + 1]]).to_f32()
+                            };
+                            Vec4::new(h(0), h(1), h(2), h(3))
+                        })
+                        .collect()
                 })
                 .collect();
         }
     }
-    panic!("no read-back of the render target in 20 frames");
+    panic!("no read-back of the render targets in 20 frames");
+}
+
+/// Per-pixel relative differences of two images (sum of rgb, against `b`), sorted.
+pub fn relative_differences(a: &[Vec4], b: &[Vec4]) -> Vec<f32> {
+    let mut d: Vec<f32> = a
+        .iter()
+        .zip(b)
+        .map(|(a, b)| {
+            let (a, b) = (a.truncate().element_sum(), b.truncate().element_sum());
+            (a - b).abs() / b.abs().max(1e-3)
+        })
+        .collect();
+    d.sort_by(f32::total_cmp);
+    d
 }
 
 /// Writes linear rgb as an 8-bit sRGB PNG (Reinhard tone curve).
