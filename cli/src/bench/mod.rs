@@ -349,6 +349,7 @@ fn run(args: &BenchArgs) -> Result<(), BenchError> {
         Extra {
             memory_bytes,
             live_fraction: live,
+            beyond_far: work.beyond_far,
             shaft_image,
             local_lights: work.local_lights.setup,
         },

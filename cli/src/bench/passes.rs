@@ -601,3 +601,116 @@ impl Shafts {
         })
     }
 }
+
+/// The stages of the apply pass timed apart (`apply_parts.wgsl`): the depth texel
+/// alone, with its view position, with the volume look-up (no tail), and the whole
+/// apply with its tail behind a branch no pixel takes.
+pub(super) struct ApplyParts {
+    pub(super) pipelines: [wgpu::RenderPipeline; APPLY_PARTS.len()],
+    pub(super) depth_group: wgpu::BindGroup,
+}
+
+/// The defines of the apply parts, in series order.
+pub(super) const APPLY_PARTS: [&str; 4] = [
+    "APPLY_PART_DEPTH",
+    "APPLY_PART_UNPROJECT",
+    "APPLY_PART_LOOKUP",
+    "APPLY_PART_UNTAKEN",
+];
+
+impl ApplyParts {
+    /// The parts over `screen`'s fog group and depth.
+    pub(super) fn new(gpu: &Gpu, screen: &Screen, config: &FogConfig) -> Result<Self, BenchError> {
+        let device = &gpu.device;
+        let depth_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("bench apply parts depth"),
+            entries: &volfog::pipeline::apply::depth_layout_entries(),
+        });
+        let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("bench apply parts"),
+            bind_group_layouts: &[
+                Some(screen.fog.fog_bind_group_layout()),
+                Some(&depth_layout),
+            ],
+            immediate_size: 0,
+        });
+        let filtering: Vec<String> = config.apply_filtering.defines();
+        let mut pipelines = Vec::new();
+        for part in APPLY_PARTS {
+            let mut defs = vec![(part, naga_oil::compose::ShaderDefValue::Bool(true))];
+            defs.extend(
+                filtering
+                    .iter()
+                    .map(|d| (d.as_str(), naga_oil::compose::ShaderDefValue::Bool(true))),
+            );
+            let module = raymarch::shader_module(
+                device,
+                include_str!("apply_parts.wgsl"),
+                "cli/src/bench/apply_parts.wgsl",
+                &defs,
+            )?;
+            pipelines.push(
+                device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+                    label: Some(part),
+                    layout: Some(&layout),
+                    vertex: wgpu::VertexState {
+                        module: &module,
+                        entry_point: Some("parts_vs"),
+                        compilation_options: Default::default(),
+                        buffers: &[],
+                    },
+                    fragment: Some(wgpu::FragmentState {
+                        module: &module,
+                        entry_point: Some("parts_fs"),
+                        compilation_options: Default::default(),
+                        targets: &[Some(wgpu::ColorTargetState {
+                            format: COLOR_FORMAT,
+                            blend: Some(volfog::pipeline::apply::FOG_BLEND),
+                            write_mask: wgpu::ColorWrites::ALL,
+                        })],
+                    }),
+                    primitive: Default::default(),
+                    depth_stencil: None,
+                    multisample: Default::default(),
+                    multiview_mask: None,
+                    cache: None,
+                }),
+            );
+        }
+        let depth_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("bench apply parts depth"),
+            layout: &depth_layout,
+            entries: &[wgpu::BindGroupEntry {
+                binding: 0,
+                resource: wgpu::BindingResource::TextureView(&screen.depth),
+            }],
+        });
+        Ok(Self {
+            pipelines: pipelines
+                .try_into()
+                .unwrap_or_else(|_| unreachable!("one pipeline per part")),
+            depth_group,
+        })
+    }
+
+    /// Records part `part` over `screen`'s colour target, timed in `slot`.
+    pub(super) fn encode(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        screen: &Screen,
+        part: usize,
+        timer: &Timer,
+        slot: u32,
+    ) {
+        let mut pass = raymarch::fullscreen_pass(
+            encoder,
+            "bench apply part",
+            &screen.color,
+            timer.render(slot),
+        );
+        pass.set_pipeline(&self.pipelines[part]);
+        pass.set_bind_group(0, screen.fog.fog_bind_group(), &[]);
+        pass.set_bind_group(1, &self.depth_group, &[]);
+        pass.draw(0..3, 0..1);
+    }
+}

@@ -167,6 +167,24 @@ pub struct AtmosphereCost {
     pub distance_clouds_vs_blit: f64,
 }
 
+/// The apply pass's stages against a blit at 1080p (`apply_parts.wgsl`): where its
+/// time goes on the adapter. Each part loads the depth and blends like apply.
+#[derive(Debug, Clone, Serialize)]
+pub struct ApplyBreakdown {
+    /// The depth texel alone / blit.
+    pub depth_vs_blit: f64,
+    /// With the pixel's view position / blit.
+    pub unproject_vs_blit: f64,
+    /// With the fog coordinate and the volume look-up, no tail / blit.
+    pub lookup_vs_blit: f64,
+    /// The whole apply with the tail behind a branch no pixel takes / blit.
+    pub tail_untaken_vs_blit: f64,
+    /// The whole apply / blit (the tail for the pixels beyond the far plane).
+    pub apply_vs_blit: f64,
+    /// Share of the 1080p pixels beyond the far plane (the tail's).
+    pub beyond_far_fraction: f64,
+}
+
 /// Epipolar sun shafts at 1080p: the two ratios of the issue and the image error.
 #[derive(Debug, Clone, Serialize)]
 pub struct ShaftCost {
@@ -314,6 +332,8 @@ pub struct Report {
     pub culling: Culling,
     /// The sky and the clouds against a blit.
     pub atmosphere: AtmosphereCost,
+    /// The apply pass's stages against a blit.
+    pub apply_breakdown: ApplyBreakdown,
     /// Epipolar sun shafts.
     pub shafts: ShaftCost,
     /// Shadowed point and spot lights.
@@ -335,6 +355,8 @@ pub(super) struct Extra {
     pub(super) memory_bytes: u64,
     /// The share of froxels the culling fog processed.
     pub(super) live_fraction: f64,
+    /// The share of the 1080p pixels beyond the far plane.
+    pub(super) beyond_far: f64,
     /// The epipolar image against its references.
     pub(super) shaft_image: ShaftImage,
     /// The shadowed local lights' setup and what their frame got.
@@ -354,6 +376,7 @@ pub(super) fn summarize(
     let Extra {
         memory_bytes,
         live_fraction,
+        beyond_far,
         shaft_image,
         local_lights: local,
     } = extra;
@@ -431,6 +454,15 @@ pub(super) fn summarize(
         sky_solve_vs_blit: median("sky_solve") / median("blit_1080p"),
         cloud_shadow_vs_blit: median("cloud_shadow_1080p") / median("blit_1080p"),
         distance_clouds_vs_blit: median("distance_clouds_1080p") / median("blit_1080p"),
+    };
+    let blit = median("blit_1080p");
+    let apply_breakdown = ApplyBreakdown {
+        depth_vs_blit: median("apply_part_depth") / blit,
+        unproject_vs_blit: median("apply_part_unproject") / blit,
+        lookup_vs_blit: median("apply_part_lookup") / blit,
+        tail_untaken_vs_blit: median("apply_part_untaken") / blit,
+        apply_vs_blit: median("apply_1080p") / blit,
+        beyond_far_fraction: beyond_far,
     };
     let shafts = ShaftCost {
         march_steps_vs_tree: Ratio::at_least(
@@ -517,6 +549,7 @@ pub(super) fn summarize(
         ratios,
         culling,
         atmosphere,
+        apply_breakdown,
         shafts,
         local_shadows,
         fused_temporal,

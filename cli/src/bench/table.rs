@@ -120,6 +120,18 @@ pub fn table(report: &Report) -> String {
         a.cloud_shadow_vs_blit,
         a.distance_clouds_vs_blit
     );
+    let b = &report.apply_breakdown;
+    let _ = writeln!(
+        out,
+        "{:<36} {:>9.2}x / {:.2}x / {:.2}x / {:.2}x / {:.2}x  (depth texel, + view position, + volume look-up, tail not taken, apply; {:.1}% of the pixels beyond far)",
+        "apply stages / blit 1080p",
+        b.depth_vs_blit,
+        b.unproject_vs_blit,
+        b.lookup_vs_blit,
+        b.tail_untaken_vs_blit,
+        b.apply_vs_blit,
+        100.0 * b.beyond_far_fraction
+    );
     let i = &report.shafts.image;
     let _ = writeln!(
         out,

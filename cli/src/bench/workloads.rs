@@ -24,6 +24,10 @@ pub(super) const SERIES: &[(&str, &str)] = &[
     ("copy", "copy 160x90x128 (floor)"),
     ("apply_1080p", "apply 1920x1080"),
     ("blit_1080p", "blit 1920x1080 (floor)"),
+    ("apply_part_depth", "apply part: depth texel"),
+    ("apply_part_unproject", "apply part: + view position"),
+    ("apply_part_lookup", "apply part: + volume look-up"),
+    ("apply_part_untaken", "apply part: tail not taken"),
     ("froxel_1080p", "froxel pipeline 1080p *"),
     ("froxel_fast_1080p", "froxel fast 1080p *+"),
     (
@@ -134,6 +138,10 @@ pub(super) struct Workloads {
     pub(super) write: VolumePass,
     pub(super) copy: VolumePass,
     pub(super) blit: BlitPass,
+    /// The apply pass's stages over the main screen.
+    pub(super) apply_parts: ApplyParts,
+    /// Share of the main screen's pixels beyond the fog's far plane.
+    pub(super) beyond_far: f64,
     pub(super) reference: Raymarch,
     pub(super) reference_group: wgpu::BindGroup,
     pub(super) reference_target: wgpu::TextureView,
@@ -196,6 +204,21 @@ impl Workloads {
         let write = VolumePass::write(gpu, main.fog.scattering_texture().size())?;
         let copy = VolumePass::copy(gpu, main.fog.scattering_texture())?;
         let blit = BlitPass::new(gpu, SCREEN, COLOR_FORMAT)?;
+        let apply_parts = ApplyParts::new(gpu, &main, &config)?;
+        let beyond_far = {
+            let depths = scene.depth_buffer(SCREEN.0, SCREEN.1);
+            let view_from_clip = scene.projection.inverse();
+            let beyond = depths
+                .iter()
+                .filter(|&&d| {
+                    -view_from_clip
+                        .project_point3(glam::Vec3::new(0.0, 0.0, d))
+                        .z
+                        > config.far
+                })
+                .count();
+            beyond as f64 / depths.len() as f64
+        };
         let reference = Raymarch::new(
             &gpu.device,
             &RaymarchOptions {
@@ -236,10 +259,12 @@ impl Workloads {
             write,
             copy,
             blit,
+            apply_parts,
+            beyond_far,
             reference,
             reference_group,
             reference_target,
-            timer: Timer::new(gpu, 8),
+            timer: Timer::new(gpu, 8 + APPLY_PARTS.len() as u32),
             atmosphere: Atmosphere::new(gpu, &depth)?,
             shafts,
             local_lights,
@@ -293,6 +318,13 @@ impl Workloads {
         let copy_t = timer.run(gpu, 0, |e| self.copy.encode(e, timer, 0))?;
         let write_t = timer.run(gpu, 3, |e| self.write.encode(e, timer, 3))?;
         let blit_t = timer.run(gpu, 1, |e| self.blit.encode(e, timer, 1))?;
+        let mut part_t = Vec::new();
+        for part in 0..APPLY_PARTS.len() {
+            let slot = 8 + part as u32;
+            part_t.push(timer.run(gpu, slot, |e| {
+                self.apply_parts.encode(e, &self.main, part, timer, slot)
+            })?);
+        }
         let [sky_t, shadow_t, clouds_t] = self.atmosphere.frame(gpu, timer, f)?;
         let shafts = self.shafts.frame(gpu, timer, with_raymarch)?;
         let local = self.local_lights.frame(gpu, &inputs, f)?;
@@ -361,6 +393,10 @@ impl Workloads {
             ("copy", copy_t),
             ("apply_1080p", both(&|p| p.apply, &main)),
             ("blit_1080p", blit_t),
+            ("apply_part_depth", part_t[0]),
+            ("apply_part_unproject", part_t[1]),
+            ("apply_part_lookup", part_t[2]),
+            ("apply_part_untaken", part_t[3]),
             ("froxel_1080p", both(&|p| froxel_cost(p) + p.apply, &main)),
             ("froxel_720p", both(&froxel_cost, &ts)),
             ("froxel_4k", both(&froxel_cost, &tl)),

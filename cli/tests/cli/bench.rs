@@ -43,6 +43,7 @@ fn quick_bench_writes_every_ratio_memory_and_adapter() {
         "raymarch / froxel fast",
         "froxels live after depth culling",
         "sky and clouds / blit 1080p",
+        "apply stages / blit 1080p",
         "epipolar march: every section / tree",
         "epipolar: per-pixel / epipolar path",
         "epipolar image: lit fraction error",
@@ -129,6 +130,22 @@ fn quick_bench_writes_every_ratio_memory_and_adapter() {
         let v = report["atmosphere"][key].as_f64().unwrap_or(f64::NAN);
         assert!(v.is_finite() && v > 0.0, "atmosphere {key} = {v}");
     }
+    let stages = &report["apply_breakdown"];
+    for key in [
+        "depth_vs_blit",
+        "unproject_vs_blit",
+        "lookup_vs_blit",
+        "tail_untaken_vs_blit",
+        "apply_vs_blit",
+    ] {
+        let v = stages[key].as_f64().unwrap_or(f64::NAN);
+        assert!(v.is_finite() && v > 0.0, "apply_breakdown {key} = {v}");
+    }
+    let beyond = stages["beyond_far_fraction"].as_f64().unwrap_or(f64::NAN);
+    assert!(
+        beyond > 0.0 && beyond < 1.0,
+        "the bench scene has pixels on both sides of the far plane: {beyond}"
+    );
     for ratio in ["march_steps_vs_tree", "reference_vs_epipolar"] {
         let r = &report["shafts"][ratio];
         let value = r["value"].as_f64().unwrap_or(f64::NAN);
