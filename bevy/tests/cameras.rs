@@ -67,14 +67,7 @@ fn set_glass(app: &mut App, material: FoggedGlassMaterial) {
 
 #[test]
 fn each_camera_s_materials_read_its_own_fog() {
-    let options = SceneOptions {
-        width: W,
-        height: H,
-        fog: FogKind::Froxel,
-        noise: false,
-        temporal: false,
-        gpu_timings: false,
-    };
+    let options = SceneOptions::still(W, H, FogKind::Froxel);
     let mut app = scene::app(&options);
     app.update();
     let first = app.world().resource::<scene::Capture>().image.clone();

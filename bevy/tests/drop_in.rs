@@ -30,14 +30,7 @@ use volfog_bevy::{
 use warnings::{volfog_warnings, warnings};
 
 fn options(fog: FogKind) -> SceneOptions {
-    SceneOptions {
-        width: 160,
-        height: 90,
-        fog,
-        noise: false,
-        temporal: false,
-        gpu_timings: false,
-    }
+    SceneOptions::still(160, 90, fog)
 }
 
 fn extracted(app: &mut App) -> ExtractedFroxelFog {

@@ -127,14 +127,7 @@ fn set_fog(app: &mut App, fog: Option<FroxelFog>) {
 fn renders() -> &'static Renders {
     static RUN: OnceLock<Renders> = OnceLock::new();
     RUN.get_or_init(|| {
-        let options = SceneOptions {
-            width: W,
-            height: H,
-            fog: FogKind::Froxel,
-            noise: false,
-            temporal: false,
-            gpu_timings: false,
-        };
+        let options = SceneOptions::still(W, H, FogKind::Froxel);
         let mut app = scene::app(&options);
         // The first frame spawns the scene.
         app.update();

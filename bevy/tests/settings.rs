@@ -33,14 +33,7 @@ fn fog_state(app: &mut App) -> (bool, usize) {
 #[test]
 fn out_of_range_settings_turn_the_fog_off_with_one_warning() {
     warnings();
-    let options = SceneOptions {
-        width: 96,
-        height: 54,
-        fog: FogKind::Froxel,
-        noise: false,
-        temporal: false,
-        gpu_timings: false,
-    };
+    let options = SceneOptions::still(96, 54, FogKind::Froxel);
     let mut app = scene::app(&options);
     app.update();
     let camera = camera_entity(&mut app);

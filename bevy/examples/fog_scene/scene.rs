@@ -95,6 +95,21 @@ impl Default for SceneOptions {
     }
 }
 
+impl SceneOptions {
+    /// A still image of `fog` for comparisons: no density noise (the closed-form height
+    /// fog), no temporal reprojection, no GPU timings.
+    pub fn still(width: u32, height: u32, fog: FogKind) -> Self {
+        Self {
+            width,
+            height,
+            fog,
+            noise: false,
+            temporal: false,
+            gpu_timings: false,
+        }
+    }
+}
+
 /// An oriented box of the scene: centre, half extents and rotation (m).
 #[derive(Clone, Copy, Debug)]
 pub struct SceneBox {
