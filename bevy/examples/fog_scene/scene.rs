@@ -96,8 +96,7 @@ impl Default for SceneOptions {
 }
 
 impl SceneOptions {
-    /// A still image of `fog` for comparisons: no density noise (the closed-form height
-    /// fog), no temporal reprojection, no GPU timings.
+    /// A still image of `fog` to compare: no noise, no temporal reprojection, no timings.
     pub fn still(width: u32, height: u32, fog: FogKind) -> Self {
         Self {
             width,

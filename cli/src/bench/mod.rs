@@ -32,6 +32,7 @@
 //! as a table and written as JSON. The targets are printed, never asserted.
 
 pub mod cost;
+mod floors;
 mod local_lights;
 mod passes;
 pub mod raymarch;
@@ -53,6 +54,7 @@ use volfog_testkit::{Gpu, GpuError};
 use raymarch::{RAYMARCH_STEPS, Raymarch, RaymarchOptions, ShaderError};
 use scene::Scene;
 
+use floors::*;
 use local_lights::*;
 use passes::*;
 pub use report::*;
