@@ -362,7 +362,7 @@ pub const PASSES: &[PassSource] = &[
         usage: "Dispatch ceil(size.x / 4) x ceil(size.y / 4) x ceil(size.z / 8) workgroups \
                 (one per block of 4 x 4 x 8 froxels) after the ESM passes. The light buffer holds light_count FogLight elements \
                 (64-byte stride), the local volume buffer local_volume_count LocalVolume \
-                elements (96-byte stride); bind at least one element each. The density \
+                elements (112-byte stride); bind at least one element each. The density \
                 sampler (binding 10) and the noise sampler (binding 13) are linear with \
                 repeat addressing; binding 12 is the texture noise_bake wrote. Under \
                 VOLFOG_FROXEL_CULL binding 11 is this frame's live-slice texture \

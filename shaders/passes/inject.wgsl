@@ -56,7 +56,9 @@
 // Defines:
 //   VOLFOG_INJECT_JITTER            sample each froxel at FogFrame.jitter instead of its centre
 //   VOLFOG_INJECT_TWO_COLOR_PHASE   AC4's two-colour sun phase instead of Henyey-Greenstein
-//   VOLFOG_INJECT_DENSITY_TEXTURE   multiply the density by a user 3D texture (r channel)
+//   VOLFOG_INJECT_DENSITY_TEXTURE   multiply the density by a user 3D texture (r channel),
+//                                   and that of the local volumes with
+//                                   LocalVolume.textured in their own space
 //   VOLFOG_INJECT_NOISE_TEXTURE     read the noise from the baked tileable texture
 //                                   (noise_bake) instead of evaluating Perlin noise
 //   VOLFOG_INJECT_NOISE_OCTAVES=N   fbm octaves, 1..=8 (default 1, as in the seed)
@@ -95,6 +97,9 @@
 #import volfog::noise::noise_animated
 #endif
 #import volfog::density::{medium_shape, medium_light_transmittance, medium_segment_transmittance, local_volume_sample, local_volume_touches_sphere}
+#ifdef VOLFOG_INJECT_DENSITY_TEXTURE
+#import volfog::density::{local_volume_sample_textured, local_volume_texture_coord}
+#endif
 #import volfog::esm::{esm_cascade, esm_shadow_cascade}
 #ifdef VOLFOG_INJECT_CLOUD_SHADOW
 #import volfog::types::CloudLayer
@@ -232,7 +237,8 @@ fn froxel_scattering(id: vec3<u32>, tile_light_count: u32, tile_volume_count: u3
 #endif
 #ifdef VOLFOG_INJECT_DENSITY_TEXTURE
     let uvw = world * fog_medium.texture_scale + fog_medium.texture_offset - fog_medium.wind * frame.time * fog_medium.texture_scale;
-    let texture_factor = textureSampleLevel(density_texture, density_sampler, uvw, 0.0).r;
+    let texture_factor = select(1.0,
+        textureSampleLevel(density_texture, density_sampler, uvw, 0.0).r, fog_medium.textured != 0u);
 #else
     let texture_factor = 1.0;
 #endif
@@ -246,7 +252,15 @@ fn froxel_scattering(id: vec3<u32>, tile_light_count: u32, tile_volume_count: u3
     let volume_count = select(all_volumes, tile_volume_count, gathered);
     for (var i = 0u; i < volume_count; i++) {
         let v = select(i, tile_volumes[min(i, TILE_VOLUMES - 1u)], gathered);
+#ifdef VOLFOG_INJECT_DENSITY_TEXTURE
+        // A textured volume reads the density texture in its own space.
+        let volume = local_volumes[v];
+        let volume_factor = textureSampleLevel(density_texture, density_sampler,
+            local_volume_texture_coord(volume, world), 0.0).r;
+        medium += local_volume_sample_textured(volume, world, volume_factor);
+#else
         medium += local_volume_sample(local_volumes[v], world);
+#endif
     }
     let emission = max(medium.rgb, vec3<f32>(0.0));
     let sigma_t = max(medium.a, 0.0);

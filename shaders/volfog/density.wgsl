@@ -70,6 +70,22 @@ fn local_volume_sample(volume: LocalVolume, world: vec3<f32>) -> vec4<f32> {
     return vec4<f32>(volume.emission, volume.density) * w;
 }
 
+// Texture coordinate of the density texture in a local volume at a world position:
+// the unit shape's extent [-1, 1]^3 mapped to [0, 1]^3, plus the volume's
+// texture_offset (sample with repeat addressing; Bevy's FogVolume convention).
+fn local_volume_texture_coord(volume: LocalVolume, world: vec3<f32>) -> vec3<f32> {
+    let local = (volume.local_from_world * vec4<f32>(world, 1.0)).xyz;
+    return local * 0.5 + 0.5 + volume.texture_offset;
+}
+
+// local_volume_sample with the density texture: texture_factor (the texture's red
+// channel at local_volume_texture_coord, clamped to >= 0) scales a textured volume's
+// density and emission; an untextured volume ignores it.
+fn local_volume_sample_textured(volume: LocalVolume, world: vec3<f32>, texture_factor: f32) -> vec4<f32> {
+    let factor = select(1.0, max(texture_factor, 0.0), volume.textured != 0u);
+    return local_volume_sample(volume, world) * factor;
+}
+
 // Whether a local volume can add extinction anywhere in the world-space sphere
 // (center, radius) (m). Conservative: the sphere's image in unit shape space lies in a
 // ball of radius `radius` times the Frobenius norm of the transform's linear part, which

@@ -102,6 +102,10 @@ struct FogMedium {
     // (volfog::height_fog::height_fog_light_optical_depth). 1e9 for a medium without
     // a top.
     top_height: f32,
+    // 1: the density texture scales the medium in world space, at
+    // world * texture_scale + texture_offset (VOLFOG_INJECT_DENSITY_TEXTURE only);
+    // 0: it does not (the texture then only shapes the textured local volumes).
+    textured: u32,
 }
 
 // A local fog volume added to (or, with negative density, removed from) the medium:
@@ -121,6 +125,13 @@ struct LocalVolume {
     edge: f32,
     // 0 box, 1 ellipsoid, 3 cylinder, 4 cone (the codes of FogVolume.shape).
     shape: u32,
+    // Added to the density texture's coordinate in this volume (texture units: the unit
+    // shape's extent spans [0, 1]); move it to scroll the pattern through the volume.
+    texture_offset: vec3<f32>,
+    // 1: the volume's density and emission are multiplied by the density texture's red
+    // channel at volfog::density::local_volume_texture_coord (in passes that read a
+    // density texture, e.g. inject@VOLFOG_INJECT_DENSITY_TEXTURE); 0: they are not.
+    textured: u32,
 }
 
 // The main directional light (sun or moon).

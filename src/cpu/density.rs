@@ -63,6 +63,27 @@ pub fn local_volume_sample(volume: &LocalVolume, world: Vec3) -> Vec4 {
     volume.emission.extend(volume.density) * w
 }
 
+/// The density texture's coordinate in a local volume at a world position (see
+/// `volfog::density::local_volume_texture_coord`).
+pub fn local_volume_texture_coord(volume: &LocalVolume, world: Vec3) -> Vec3 {
+    volume.local_from_world.transform_point3(world) * 0.5 + Vec3::splat(0.5) + volume.texture_offset
+}
+
+/// [`local_volume_sample`] scaled by the density texture's factor for a textured
+/// volume (see `volfog::density::local_volume_sample_textured`).
+pub fn local_volume_sample_textured(
+    volume: &LocalVolume,
+    world: Vec3,
+    texture_factor: f32,
+) -> Vec4 {
+    let factor = if volume.textured != 0 {
+        texture_factor.max(0.0)
+    } else {
+        1.0
+    };
+    local_volume_sample(volume, world) * factor
+}
+
 /// Whether a local volume can add extinction anywhere in the world-space sphere
 /// (`center`, `radius`): conservative (see `volfog::density`).
 pub fn local_volume_touches_sphere(volume: &LocalVolume, center: Vec3, radius: f32) -> bool {

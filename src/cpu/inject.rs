@@ -6,7 +6,8 @@ use glam::{UVec3, Vec3, Vec4};
 
 use super::clouds::{CloudMap, cloud_shadow};
 use super::density::{
-    local_volume_sample, medium_light_transmittance, medium_segment_transmittance, medium_shape,
+    local_volume_sample, local_volume_sample_textured, local_volume_texture_coord,
+    medium_light_transmittance, medium_segment_transmittance, medium_shape,
 };
 use super::esm::{Layer, esm_shadow};
 use super::froxel::froxel_view_position;
@@ -118,7 +119,7 @@ pub fn froxel_scattering(inputs: &InjectInputs<'_>, id: UVec3) -> Vec4 {
         _ => noise_animated(world, m.noise_scale, m.wind, time, octaves),
     };
     let texture_factor = match (inputs.options.density_texture, inputs.density_texture) {
-        (true, Some(t)) => {
+        (true, Some(t)) if m.textured != 0 => {
             let uvw = world * m.texture_scale + m.texture_offset
                 - m.wind * inputs.frame.time * m.texture_scale;
             t.sample(uvw)
@@ -132,7 +133,14 @@ pub fn froxel_scattering(inputs: &InjectInputs<'_>, id: UVec3) -> Vec4 {
         .iter()
         .take(m.local_volume_count as usize)
     {
-        medium += local_volume_sample(v, world);
+        medium += match (inputs.options.density_texture, inputs.density_texture) {
+            (true, Some(t)) => local_volume_sample_textured(
+                v,
+                world,
+                t.sample(local_volume_texture_coord(v, world)),
+            ),
+            _ => local_volume_sample(v, world),
+        };
     }
     let emission = medium.truncate().max(Vec3::ZERO);
     let sigma_t = medium.w.max(0.0);

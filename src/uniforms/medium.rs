@@ -46,11 +46,23 @@ pub struct FogMedium {
     /// (`height_falloff` 0) without a top lets no sunlight through. `|h| <= 1e9`.
     #[cfg_attr(feature = "serde", serde(default = "no_top"))]
     pub top_height: f32,
+    /// 1 (the default): the density texture
+    /// ([`VolumetricFog::set_density_texture`](crate::pipeline::VolumetricFog::set_density_texture),
+    /// with `FogConfig::density_texture`) scales the medium in world space at
+    /// `world * texture_scale + texture_offset`; 0: it does not, and only shapes the
+    /// local volumes made with [`LocalVolume::with_density_texture`].
+    #[cfg_attr(feature = "serde", serde(default = "textured"))]
+    pub textured: u32,
 }
 
 #[cfg(feature = "serde")]
 fn no_top() -> f32 {
     limits::NO_TOP
+}
+
+#[cfg(feature = "serde")]
+fn textured() -> u32 {
+    1
 }
 
 impl Default for FogMedium {
@@ -70,6 +82,7 @@ impl Default for FogMedium {
             local_volume_count: 0,
             emission: Vec3::ZERO,
             top_height: limits::NO_TOP,
+            textured: 1,
         }
     }
 }
@@ -112,7 +125,13 @@ impl FogMedium {
             "-1 < g < 1",
         )?;
         super::check_channels("FogMedium.emission", self.emission, &limits::EMISSION)?;
-        limits::FOG_POSITION.check("FogMedium.top_height", self.top_height)
+        limits::FOG_POSITION.check("FogMedium.top_height", self.top_height)?;
+        check(
+            self.textured <= 1,
+            "FogMedium.textured",
+            self.textured,
+            "0 or 1",
+        )
     }
 }
 
@@ -149,6 +168,14 @@ pub struct LocalVolume {
     pub edge: f32,
     /// A [`VolumeShape`] code: 0 box, 1 ellipsoid, 3 cylinder, 4 cone.
     pub shape: u32,
+    /// Added to the density texture's coordinate in this volume, whose unit shape spans
+    /// [0, 1] of the texture; move it to scroll the pattern. Finite.
+    pub texture_offset: Vec3,
+    /// 1: the density texture (`VolumetricFog::set_density_texture`, with
+    /// `FogConfig::density_texture`) scales the volume's density and emission, sampled
+    /// in the volume's own space (see [`LocalVolume::with_density_texture`]); 0: it
+    /// does not.
+    pub textured: u32,
 }
 
 impl LocalVolume {
@@ -171,6 +198,23 @@ impl LocalVolume {
             density,
             edge,
             shape: shape as u32,
+            texture_offset: Vec3::ZERO,
+            textured: 0,
+        };
+        volume.validate()?;
+        Ok(volume)
+    }
+
+    /// The volume scaled by the density texture's red channel in its own space, at
+    /// `local * 0.5 + 0.5 + offset` (`local` in the unit shape's [-1, 1]^3, repeat
+    /// addressing: Bevy's `FogVolume` convention, where the unit cube spans the whole
+    /// texture). The fog needs `FogConfig::density_texture`; without it the volume is
+    /// not textured. The texture also scales the global medium, in world space.
+    pub fn with_density_texture(self, offset: Vec3) -> Result<Self, InvalidValue> {
+        let volume = Self {
+            texture_offset: offset,
+            textured: 1,
+            ..self
         };
         volume.validate()?;
         Ok(volume)
@@ -194,6 +238,17 @@ impl LocalVolume {
         limits::LOCAL_VOLUME_DENSITY.check("LocalVolume.density", self.density)?;
         limits::LOCAL_VOLUME_EDGE.check("LocalVolume.edge", self.edge)?;
         super::check_channels("LocalVolume.emission", self.emission, &limits::EMISSION)?;
+        check_finite(
+            "LocalVolume.texture_offset",
+            self.texture_offset,
+            "finite values",
+        )?;
+        check(
+            self.textured <= 1,
+            "LocalVolume.textured",
+            self.textured,
+            "0 or 1",
+        )?;
         check(
             [
                 VolumeShape::Box,

@@ -235,6 +235,7 @@ fn rust_layouts() -> BTreeMap<&'static str, Measured> {
             local_volume_count: u32,
             emission: Vec3,
             top_height: f32,
+            textured: u32,
         }),
         measure!(LocalVolume {
             local_from_world: Mat4,
@@ -242,6 +243,8 @@ fn rust_layouts() -> BTreeMap<&'static str, Measured> {
             density: f32,
             edge: f32,
             shape: u32,
+            texture_offset: Vec3,
+            textured: u32,
         }),
         measure!(DirectionalLight {
             direction: Vec3,

@@ -229,6 +229,7 @@ mod tests {
             density: 2.0e3,
             edge: 0.5,
             shape: 0,
+            ..LocalVolume::default()
         };
         let volumes = [bad];
         let inputs = FrameInputs {

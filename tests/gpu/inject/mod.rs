@@ -9,3 +9,4 @@ mod inputs;
 mod light_kinds;
 mod local_volumes;
 mod mirror;
+mod textured_volumes;
