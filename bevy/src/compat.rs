@@ -26,8 +26,9 @@
 //! Outside the volumes there is no fog (the medium's density is 0, no tail), as in
 //! Bevy. volfog's medium has one albedo and one phase: the volumes' values are taken
 //! from the first volume (by entity), and a volume that differs is warned about once,
-//! naming the field. A `density_texture` (and its offset) is not read: the volume is
-//! uniform, with one warning. `VolumetricFog.step_count` and `jitter` are the ray
+//! naming the field. A `density_texture` and its offset become the volume's
+//! `FroxelFogVolumeTexture` (the same sampling: the unit cube spans the texture once,
+//! repeat addressing). `VolumetricFog.step_count` and `jitter` are the ray
 //! marcher's quality settings; the froxel grid's slices and temporal jitter take their
 //! place.
 
@@ -42,6 +43,7 @@ use bevy::render::{Extract, ExtractSchedule, Render, RenderApp, RenderSystems};
 
 use crate::settings::{
     FogLightSelection, FogMediumSettings, FogVolumeShape, FroxelFog, FroxelFogVolume,
+    FroxelFogVolumeTexture,
 };
 
 /// Renders Bevy's `VolumetricFog` cameras and `FogVolume`s with volfog (add it next to
@@ -206,16 +208,20 @@ pub fn froxel_fog(fog: &VolumetricFog, first: Option<&FogVolume>, exposure: f32)
     }
 }
 
+/// A Bevy `FogVolume` and what it was converted to.
+type BevyVolumeItems = (
+    Entity,
+    &'static FogVolume,
+    &'static InheritedVisibility,
+    Option<&'static FroxelFogVolume>,
+    Option<&'static FroxelFogVolumeTexture>,
+);
+
 /// Gives every Bevy `FogVolume` its `FroxelFogVolume`, and warns once per volume and
 /// field for what volfog does not take.
 fn sync_fog_volumes(
     mut commands: Commands,
-    volumes: Query<(
-        Entity,
-        &FogVolume,
-        &InheritedVisibility,
-        Option<&FroxelFogVolume>,
-    )>,
+    volumes: Query<BevyVolumeItems>,
     mut gone: RemovedComponents<FogVolume>,
     converted: Query<(), With<FromBevyFog>>,
     mut warned: Local<HashSet<(Entity, &'static str)>>,
@@ -224,24 +230,18 @@ fn sync_fog_volumes(
         if converted.contains(entity)
             && let Ok(mut e) = commands.get_entity(entity)
         {
-            e.remove::<(FroxelFogVolume, FromBevyFog)>();
+            e.remove::<(FroxelFogVolume, FroxelFogVolumeTexture, FromBevyFog)>();
         }
     }
     let mut sorted: Vec<_> = volumes.iter().collect();
     sorted.sort_by_key(|(e, ..)| *e);
     let first = sorted.first().map(|(_, v, ..)| volume_medium(v));
-    for (entity, volume, visible, current) in sorted {
+    for (entity, volume, visible, current, current_texture) in sorted {
         let mut warn = |field: &'static str, why: &str| {
             if warned.insert((entity, field)) {
                 warn!("volfog: FogVolume {entity}: {field} {why}");
             }
         };
-        if volume.density_texture.is_some() {
-            warn(
-                "FogVolume.density_texture",
-                "is not supported by volfog's froxel fog: the volume is uniform",
-            );
-        }
         if let Some((albedo, phase_g, scale)) = first {
             let (a, g, s) = volume_medium(volume);
             if a != albedo {
@@ -272,13 +272,29 @@ fn sync_fog_volumes(
             if current.is_some() && converted.contains(entity) {
                 commands
                     .entity(entity)
-                    .remove::<(FroxelFogVolume, FromBevyFog)>();
+                    .remove::<(FroxelFogVolume, FroxelFogVolumeTexture, FromBevyFog)>();
             }
             continue;
         }
         let want = froxel_fog_volume(volume);
         if current != Some(&want) {
             commands.entity(entity).insert((want, FromBevyFog));
+        }
+        let texture = volume
+            .density_texture
+            .clone()
+            .map(|image| FroxelFogVolumeTexture {
+                image,
+                offset: volume.density_texture_offset,
+            });
+        match (texture, current_texture) {
+            (Some(want), have) if have != Some(&want) => {
+                commands.entity(entity).insert(want);
+            }
+            (None, Some(_)) => {
+                commands.entity(entity).remove::<FroxelFogVolumeTexture>();
+            }
+            _ => {}
         }
     }
 }

@@ -32,7 +32,9 @@ use volfog::uniforms::{
 };
 
 use crate::light_shadows::{ExtractedLightShadow, local_shadow_config};
-use crate::settings::{FogLightSelection, FogVolumeShape, FroxelFog, FroxelFogVolume};
+use crate::settings::{
+    FogLightSelection, FogVolumeShape, FroxelFog, FroxelFogVolume, FroxelFogVolumeTexture,
+};
 
 /// Screen pixels per froxel side that [`FroxelFog::tile_size`] accepts.
 pub const TILE_SIZE: limits::Range<u32> = limits::Range::new(1, 256, "pixels");
@@ -65,6 +67,9 @@ pub struct ExtractedFroxelFog {
     pub light_shadows: Vec<ExtractedLightShadow>,
     /// Local volumes.
     pub volumes: Vec<LocalVolume>,
+    /// The density texture the textured volumes read (`FroxelFogVolumeTexture`), bound
+    /// in the render world once Bevy has prepared it.
+    pub density_texture: Option<AssetId<Image>>,
     /// The sun's cascades (count 0 without a shadowed sun).
     pub cascades: ShadowCascades,
     /// The far tail (world space), or none.
@@ -111,6 +116,18 @@ const STANDARD_FROM_REVERSED_Z: vg::Mat4 = vg::Mat4::from_cols(
     vg::Vec4::Y,
     vg::Vec4::new(0.0, 0.0, -1.0, 0.0),
     vg::Vec4::new(0.0, 0.0, 1.0, 1.0),
+);
+
+/// A local volume as the extraction reads it: its settings, world transform and, when
+/// it reads the fog's density texture, the texture's offset.
+type ExtractedVolume = (FroxelFogVolume, Mat4, Option<Vec3>);
+
+/// A local volume as the extraction queries it.
+type VolumeItems = (
+    Entity,
+    &'static FroxelFogVolume,
+    &'static GlobalTransform,
+    Option<&'static FroxelFogVolumeTexture>,
 );
 
 /// A fog camera as the extraction reads it.
@@ -161,12 +178,13 @@ pub fn extract_froxel_fog(
     suns: Extract<SunQuery>,
     points: Extract<PointQuery>,
     spots: Extract<SpotQuery>,
-    volumes: Extract<Query<(&FroxelFogVolume, &GlobalTransform)>>,
+    volumes: Extract<Query<VolumeItems>>,
     ambient: Extract<Option<Res<GlobalAmbientLight>>>,
     shadow_map: Extract<Res<DirectionalLightShadowMap>>,
     point_shadow_map: Extract<Res<PointLightShadowMap>>,
     time: Extract<Res<Time>>,
     mut warned: Local<HashSet<Entity>>,
+    mut warned_textures: Local<HashSet<Entity>>,
 ) {
     for render in &others {
         commands.entity(render).remove::<ExtractedFroxelFog>();
@@ -183,11 +201,31 @@ pub fn extract_froxel_fog(
             time: time.elapsed_secs_wrapped(),
         };
         let lights = collect_lights(&points, &spots, scene.exposure, fog);
-        let local: Vec<(FroxelFogVolume, Mat4)> = volumes
-            .iter()
-            .map(|(v, t)| (v.clone(), t.to_matrix()))
+        let mut local: Vec<_> = volumes.iter().collect();
+        local.sort_by_key(|(e, ..)| *e);
+        // One density texture per fog: the first textured volume's image.
+        let texture = local.iter().find_map(|(.., t)| t.map(|t| t.image.id()));
+        let local: Vec<ExtractedVolume> = local
+            .into_iter()
+            .map(|(volume_entity, v, t, texture_of)| {
+                let offset = texture_of.and_then(|x| {
+                    if Some(x.image.id()) == texture {
+                        Some(x.offset)
+                    } else {
+                        if warned_textures.insert(volume_entity) {
+                            warn!(
+                                "volfog: volume {volume_entity}: FroxelFogVolumeTexture.image is \
+                                 not the first textured volume's; a fog reads one density \
+                                 texture, so this volume is uniform"
+                            );
+                        }
+                        None
+                    }
+                });
+                (v.clone(), t.to_matrix(), offset)
+            })
             .collect();
-        match extracted(fog, &scene, suns.iter(), lights, &local) {
+        match extracted(fog, &scene, suns.iter(), lights, &local, texture) {
             Ok(extracted) => {
                 warned.remove(&entity);
                 commands.entity(render).insert(extracted);
@@ -305,7 +343,8 @@ fn extracted<'a>(
     scene: &Scene<'_>,
     suns: impl Iterator<Item = SunItem<'a>>,
     (mut lights, light_shadows): (Vec<FogLight>, Vec<ExtractedLightShadow>),
-    volumes: &[(FroxelFogVolume, Mat4)],
+    volumes: &[ExtractedVolume],
+    density_texture: Option<AssetId<Image>>,
 ) -> Result<ExtractedFroxelFog, InvalidValue> {
     TILE_SIZE.check("FroxelFog.tile_size", fog.tile_size)?;
     let viewport = scene.camera.physical_viewport_size().unwrap_or(UVec2::ONE);
@@ -321,6 +360,8 @@ fn extracted<'a>(
         wind: vec3(fog.medium.wind),
         top_height: fog.medium.top_height,
         emission: rgb(fog.medium.emission) * scene.exposure,
+        // The density texture is the textured volumes' (FroxelFogVolumeTexture).
+        textured: 0,
         ..FogMedium::default()
     };
     medium.validate().map_err(|e| renamed(e, fog))?;
@@ -407,15 +448,20 @@ fn extracted<'a>(
     };
     let volumes = volumes
         .iter()
-        .map(|(v, world_from_entity)| {
-            // The entity's unit shape spans -0.5..0.5; volfog's spans -1..1.
+        .map(|(v, world_from_entity, texture_offset)| {
+            // The entity's unit shape spans -0.5..0.5; volfog's spans -1..1, and maps
+            // to the texture as local * 0.5 + 0.5: Bevy's local + 0.5.
             let world_from_local =
                 mat4(*world_from_entity) * vg::Mat4::from_scale(vg::Vec3::splat(0.5));
             let shape = match v.shape {
                 FogVolumeShape::Box => VolumeShape::Box,
                 FogVolumeShape::Ellipsoid => VolumeShape::Ellipsoid,
             };
-            LocalVolume::new(world_from_local, shape, v.density, v.edge)
+            let volume = LocalVolume::new(world_from_local, shape, v.density, v.edge)?;
+            match texture_offset {
+                Some(offset) => volume.with_density_texture(vec3(*offset)),
+                None => Ok(volume),
+            }
         })
         .collect::<Result<Vec<_>, _>>()?;
     check(
@@ -438,6 +484,7 @@ fn extracted<'a>(
         shadow_reversed_z: true,
         max_lights: limits::MAX_LIGHTS,
         max_local_volumes: MAX_VOLUMES,
+        density_texture: density_texture.is_some(),
         jitter: fog.temporal,
         temporal: fog.temporal,
         history_weight: fog.history_weight,
@@ -465,6 +512,7 @@ fn extracted<'a>(
         lights,
         light_shadows,
         volumes,
+        density_texture,
         cascades,
         tail,
     };

@@ -95,6 +95,7 @@ pub use material::FoggedGlassMaterial;
 pub use render::{FogViews, ViewFog};
 pub use settings::{
     FogLightSelection, FogMediumSettings, FogVolumeShape, FroxelFog, FroxelFogVolume,
+    FroxelFogVolumeTexture,
 };
 pub use volfog;
 

@@ -7,7 +7,9 @@ use std::collections::{HashMap, HashSet};
 use bevy::pbr::ViewShadowBindings;
 use bevy::prelude::*;
 use bevy::render::diagnostic::RecordDiagnostics;
+use bevy::render::render_asset::RenderAssets;
 use bevy::render::renderer::{RenderContext, RenderDevice, RenderQueue, ViewQuery};
+use bevy::render::texture::GpuImage;
 use bevy::render::view::{ViewDepthStencilTexture, ViewTarget};
 use volfog::pipeline::apply::ApplyPipeline;
 use volfog::pipeline::{FogError, SharedFog, VolumetricFog};
@@ -86,6 +88,8 @@ pub struct ViewFog {
     /// Bevy's point light cube array and directional (and spot) light array, as set.
     point_maps: Option<wgpu::Texture>,
     spot_maps: Option<wgpu::Texture>,
+    /// The density texture as set (Bevy's texture of the volumes' image).
+    density_texture: Option<wgpu::Texture>,
     depth: Option<(wgpu::Texture, wgpu::BindGroup)>,
     /// A multisampled camera's depth, resolved to one depth per pixel.
     depth_resolve: Option<DepthResolve>,
@@ -136,6 +140,7 @@ pub fn build_froxel_fog(
                         shadow_map: None,
                         point_maps: None,
                         spot_maps: None,
+                        density_texture: None,
                         depth: None,
                         depth_resolve: None,
                         ready: false,
@@ -183,6 +188,7 @@ pub fn prepare_froxel_fog(
     queue: Res<RenderQueue>,
     mut fogs: ResMut<FogViews>,
     lights: BevyLights,
+    images: Res<RenderAssets<GpuImage>>,
     mut warned: Local<HashSet<Entity>>,
 ) {
     let layers = device.limits().max_texture_array_layers as usize;
@@ -192,6 +198,23 @@ pub fn prepare_froxel_fog(
             continue;
         };
         view.ready = false;
+        // The volumes' density texture, once Bevy has prepared its image (until then
+        // the fog's texture is 1 everywhere: the volumes are uniform).
+        let density = extracted.density_texture.and_then(|id| images.get(id));
+        if let Some(image) = density {
+            let texture: &wgpu::Texture = &image.texture;
+            if view.density_texture.as_ref() != Some(texture) {
+                view.density_texture = Some(texture.clone());
+                if let Err(error) = view.fog.set_density_texture(device.wgpu_device(), texture)
+                    && warned.insert(entity)
+                {
+                    warn!(
+                        "volfog: view {entity}: FroxelFogVolumeTexture.image: {error}; the \
+                         volumes are uniform"
+                    );
+                }
+            }
+        }
         match prepare_view(
             view,
             extracted,

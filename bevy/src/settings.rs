@@ -212,6 +212,23 @@ pub struct FroxelFogVolume {
     pub edge: f32,
 }
 
+/// The density texture of the [`FroxelFogVolume`] on the same entity: the red channel
+/// of a 3D image scales the volume's density in the volume's own space, as Bevy's
+/// `FogVolume.density_texture` does: the unit shape spans the texture once, sampled at
+/// `local + 0.5 + offset` (`local` in -0.5..0.5, linear filtering, repeat addressing),
+/// so move `offset` to scroll the pattern. The image must be 3D with a filterable float
+/// format (e.g. `R8Unorm`, `R16Float`). A fog reads one density texture: the first
+/// volume's (by entity); a volume with another image is drawn uniform, with one
+/// warning naming `FroxelFogVolumeTexture.image`.
+#[derive(Component, Clone, Debug, PartialEq)]
+#[require(FroxelFogVolume)]
+pub struct FroxelFogVolumeTexture {
+    /// The 3D density texture.
+    pub image: Handle<Image>,
+    /// Added to the texture coordinate (texture units).
+    pub offset: Vec3,
+}
+
 impl Default for FroxelFogVolume {
     fn default() -> Self {
         Self {

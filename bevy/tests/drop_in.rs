@@ -306,21 +306,39 @@ fn bevy_volumetric_fog_renders_with_volfog() {
     assert!(fogged > 0.05, "the image has fog");
     assert!(by_bevy > 0.05, "Bevy's pass would change the image");
 
-    // A second volume with another colour and a density texture: one warning for each
-    // field, however many frames.
+    // A second volume with another colour and a density texture, and a third with
+    // another density texture: one warning for each field, however many frames (a fog
+    // reads one density texture, the first textured volume's).
     let before = volfog_warnings().len();
+    let mut images = compat.world_mut().resource_mut::<Assets<Image>>();
+    let [first, other] = [255u8, 128].map(|v| {
+        images.add(Image::new_fill(
+            bevy::render::render_resource::Extent3d::default(),
+            bevy::render::render_resource::TextureDimension::D3,
+            &[v],
+            bevy::render::render_resource::TextureFormat::R8Unorm,
+            bevy::asset::RenderAssetUsages::RENDER_WORLD,
+        ))
+    });
     compat.world_mut().spawn((
         FogVolume {
             fog_color: Color::linear_rgb(1.0, 0.2, 0.2),
-            density_texture: Some(Handle::default()),
+            density_texture: Some(first),
             ..volume.clone()
         },
         Transform::from_xyz(0.0, 2.0, -12.0).with_scale(Vec3::splat(4.0)),
     ));
+    compat.world_mut().spawn((
+        FogVolume {
+            density_texture: Some(other),
+            ..volume.clone()
+        },
+        Transform::from_xyz(3.0, 2.0, -14.0).with_scale(Vec3::splat(3.0)),
+    ));
     frames(&mut compat, 3);
     let new = volfog_warnings()[before..].to_vec();
     eprintln!("{new:#?}");
-    for field in ["FogVolume.fog_color", "FogVolume.density_texture"] {
+    for field in ["FogVolume.fog_color", "FroxelFogVolumeTexture.image"] {
         let count = new.iter().filter(|m| m.contains(field)).count();
         assert_eq!(count, 1, "one warning naming {field}: {new:?}");
     }
