@@ -302,7 +302,7 @@ pub const PASSES: &[PassSource] = &[
         axes: &[
             Axis::Flag("VOLFOG_BINDINGS_NO_SAMPLER"),
             Axis::Flag("VOLFOG_APPLY_RESOLVED"),
-            Axis::Flag("VOLFOG_APPLY_EPIPOLAR"),
+            Axis::OneOf(&["VOLFOG_APPLY_EPIPOLAR", "VOLFOG_APPLY_NO_TAIL"]),
         ],
         values: &[],
         usage: "Draw 3 vertices with fullscreen_vs (pass fullscreen), no vertex buffers, onto \
@@ -315,7 +315,11 @@ pub const PASSES: &[PassSource] = &[
                 amount 1 - T, averaged by the resolve of a multisampled target the depth \
                 pre-pass wrote with fog_layout), bound as unfilterable float. Under \
                 VOLFOG_APPLY_EPIPOLAR group 1 binding 1 is the epipolar shaft texture \
-                (rgba16float, rgb the lit fraction), bound as unfilterable float.",
+                (rgba16float, rgb the lit fraction), bound as unfilterable float. \
+                VOLFOG_APPLY_NO_TAIL leaves out the analytic tail beyond the far plane: use \
+                it for frames whose tail has density 0, where it draws the same image for \
+                less work per pixel. It declares no group 0 binding 3 (the tail), so the fog \
+                group of the other variants fits it as it is.",
         render: FULLSCREEN_COMPOSITE
     ),
     pass!(

@@ -21,6 +21,11 @@
 //          light is shadowed by epipolar sun shafts (Yusov 2012); group 1 binding 1 is
 //          the shaft texture (rgba16float, rgb the lit fraction; EpipolarShafts marched
 //          from the far plane in the tail's medium), read with textureLoad.
+//          VOLFOG_APPLY_NO_TAIL — no analytic tail beyond the far plane: the volume's
+//          fog alone, for frames whose tail (group 0 binding 3) has density 0, where it
+//          draws the same image without paying for fog_tail on every pixel (hardware
+//          that runs both sides of a branch pays for it even where no pixel is beyond
+//          the far plane). Not with VOLFOG_APPLY_EPIPOLAR, whose shafts shadow the tail.
 
 #import volfog::bindings
 #import volfog::apply::{fog_coord, fog_sample, fog_load, fog_tail, fog_tail_shafts, fog_with_tail, fog_view_from_depth, fog_resolved}
@@ -49,6 +54,9 @@ fn apply_fs(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
 #else
     let fog = fog_sample(bindings::fog_integrated, bindings::fog_sampler, coord);
 #endif
+#ifdef VOLFOG_APPLY_NO_TAIL
+    let total = fog;
+#else
 #ifdef VOLFOG_APPLY_EPIPOLAR
     let shafts = textureLoad(epipolar_shafts, vec2<i32>(frag.xy), 0).rgb;
     let tail = fog_tail_shafts(froxels, bindings::fog_far_tail, view, shafts);
@@ -56,6 +64,7 @@ fn apply_fs(@builtin(position) frag: vec4<f32>) -> @location(0) vec4<f32> {
     let tail = fog_tail(froxels, bindings::fog_far_tail, view);
 #endif
     let total = fog_with_tail(fog, tail);
+#endif
 #ifdef VOLFOG_APPLY_RESOLVED
     return fog_resolved(total, resolved.g);
 #else

@@ -134,6 +134,9 @@ pub struct ApplyPipeline {
     samples: u32,
     depth_layout: wgpu::BindGroupLayout,
     pipeline: wgpu::RenderPipeline,
+    /// The variant without the far-plane tail (`VOLFOG_APPLY_NO_TAIL`), for frames whose
+    /// tail is empty; none for [`ApplyInput::FarField`], which shadows the tail.
+    no_tail: Option<wgpu::RenderPipeline>,
 }
 
 impl ApplyPipeline {
@@ -178,33 +181,45 @@ impl ApplyPipeline {
         let vs = shader_module(device, "fullscreen", &[])?;
         let mut defines = filtering.defines();
         defines.extend(input.defines());
-        let fs = shader_module(device, "apply", &defines)?;
         let depth_layout =
             bind_group_layout(device, "volfog apply depth", &input_layout_entries(input));
-        let pipeline = render_pipeline(
-            device,
-            RenderPipelineDesc {
-                label: "volfog apply",
-                vertex: (&vs, "fullscreen_vs"),
-                fragment: (&fs, "apply_fs"),
-                bind_group_layouts: &[Some(fog_layout), Some(&depth_layout)],
-                buffers: &[],
-                primitive: wgpu::PrimitiveState::default(),
-                target: wgpu::ColorTargetState {
-                    format,
-                    blend: Some(FOG_BLEND),
-                    write_mask: wgpu::ColorWrites::ALL,
+        let pipeline = |label: &str, defines: &[String]| {
+            let fs = shader_module(device, "apply", defines)?;
+            Ok::<_, CodegenError>(render_pipeline(
+                device,
+                RenderPipelineDesc {
+                    label,
+                    vertex: (&vs, "fullscreen_vs"),
+                    fragment: (&fs, "apply_fs"),
+                    bind_group_layouts: &[Some(fog_layout), Some(&depth_layout)],
+                    buffers: &[],
+                    primitive: wgpu::PrimitiveState::default(),
+                    target: wgpu::ColorTargetState {
+                        format,
+                        blend: Some(FOG_BLEND),
+                        write_mask: wgpu::ColorWrites::ALL,
+                    },
+                    samples,
                 },
-                samples,
-            },
-        );
+            ))
+        };
+        let with_tail = pipeline("volfog apply", &defines)?;
+        let no_tail = match input {
+            ApplyInput::FarField => None,
+            ApplyInput::Depth | ApplyInput::ResolvedLayout => {
+                let mut defines = defines.clone();
+                defines.push(NO_TAIL_DEFINE.to_string());
+                Some(pipeline("volfog apply without tail", &defines)?)
+            }
+        };
         Ok(Self {
             filtering,
             input,
             format,
             samples,
             depth_layout,
-            pipeline,
+            pipeline: with_tail,
+            no_tail,
         })
     }
 
@@ -270,20 +285,41 @@ impl ApplyPipeline {
     }
 
     /// Records the fullscreen draw into a render pass whose colour attachment is the
-    /// lit scene (loaded, not cleared), reading `fog_group` and `depth_group`.
+    /// lit scene (loaded, not cleared), reading `fog_group` and `depth_group`, with the
+    /// far-plane tail. [`VolumetricFog::draw_apply`](crate::pipeline::VolumetricFog::draw_apply)
+    /// draws the variant without it when the prepared frame's tail is empty.
     pub fn draw(
         &self,
         pass: &mut wgpu::RenderPass<'_>,
         fog_group: &wgpu::BindGroup,
         depth_group: &wgpu::BindGroup,
     ) {
-        pass.set_pipeline(&self.pipeline);
+        self.draw_tail(pass, fog_group, depth_group, Tail::Analytic);
+    }
+
+    /// [`ApplyPipeline::draw`] with the tail `tail`: [`Tail::Empty`] draws the variant
+    /// without the tail (`VOLFOG_APPLY_NO_TAIL`), which is the same image when the
+    /// fog group's tail has density 0, for less work per pixel. A far-field pipeline
+    /// always draws its tail.
+    pub fn draw_tail(
+        &self,
+        pass: &mut wgpu::RenderPass<'_>,
+        fog_group: &wgpu::BindGroup,
+        depth_group: &wgpu::BindGroup,
+        tail: Tail,
+    ) {
+        let pipeline = match (tail, &self.no_tail) {
+            (Tail::Empty, Some(no_tail)) => no_tail,
+            _ => &self.pipeline,
+        };
+        pass.set_pipeline(pipeline);
         pass.set_bind_group(0, fog_group, &[]);
         pass.set_bind_group(1, depth_group, &[]);
         pass.draw(0..3, 0..1);
     }
 
-    /// Records a render pass that loads `color` and blends the fog onto it.
+    /// Records a render pass that loads `color` and blends the fog onto it (with the
+    /// tail, as [`ApplyPipeline::draw`]).
     pub fn record(
         &self,
         encoder: &mut wgpu::CommandEncoder,
@@ -292,8 +328,52 @@ impl ApplyPipeline {
         depth_group: &wgpu::BindGroup,
         timestamp_writes: Option<wgpu::RenderPassTimestampWrites<'_>>,
     ) {
+        self.record_tail(
+            encoder,
+            color,
+            fog_group,
+            depth_group,
+            timestamp_writes,
+            Tail::Analytic,
+        );
+    }
+
+    /// [`ApplyPipeline::record`] with the tail `tail` (see [`ApplyPipeline::draw_tail`]).
+    pub fn record_tail(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        color: &wgpu::TextureView,
+        fog_group: &wgpu::BindGroup,
+        depth_group: &wgpu::BindGroup,
+        timestamp_writes: Option<wgpu::RenderPassTimestampWrites<'_>>,
+        tail: Tail,
+    ) {
         let mut pass = composite_pass(encoder, "volfog apply", color, timestamp_writes);
-        self.draw(&mut pass, fog_group, depth_group);
+        self.draw_tail(&mut pass, fog_group, depth_group, tail);
+    }
+}
+
+/// The define of the apply variant without the far-plane tail.
+pub const NO_TAIL_DEFINE: &str = "VOLFOG_APPLY_NO_TAIL";
+
+/// What lies beyond the far plane in the fog group an apply reads.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Tail {
+    /// The analytic height-fog tail (`volfog::apply::fog_tail`), drawn per pixel.
+    Analytic,
+    /// Nothing: the tail's density is 0 (e.g. `HeightFog::none()`), so the variant
+    /// without it draws the same image.
+    Empty,
+}
+
+impl Tail {
+    /// The tail of a frame whose far-plane fog is `tail`.
+    pub fn of(tail: &crate::uniforms::HeightFog) -> Self {
+        if tail.density == 0.0 {
+            Tail::Empty
+        } else {
+            Tail::Analytic
+        }
     }
 }
 

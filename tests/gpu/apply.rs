@@ -386,3 +386,130 @@ fn encoded_fog(
     });
     (fog, depth, depth_view)
 }
+
+/// A frame prepared without a tail (`HeightFog::none()`) is applied by the variant
+/// without it (`VOLFOG_APPLY_NO_TAIL`): the very image of the variant with the tail,
+/// bit for bit. A frame with a tail is applied with it, which changes every pixel
+/// beyond the far plane and none in front of it.
+#[test]
+fn an_empty_tail_is_left_out_and_draws_the_same_image() {
+    use common::scene::{projection, view};
+    use glam::{Vec3, Vec4};
+    use volfog::pipeline::FrameInputs;
+    use volfog::pipeline::apply::Tail;
+    use volfog::uniforms::HeightFog;
+
+    let gpu = gpu();
+    let (w, h) = (48, 27);
+    let (mut fog, ..) = encoded_fog(gpu, w, h);
+    // Depths from about 50 m to the camera's far plane (500 m): the fog's far plane
+    // (64 m) crosses every row.
+    let depths: Vec<f32> = (0..w * h)
+        .map(|i| 0.998 + 0.002 * (i % w) as f32 / (w - 1) as f32)
+        .collect();
+    let depth = volfog_testkit::selfcheck::depth_texture(gpu, w, h, &depths).unwrap();
+    let depth_view = depth.create_view(&wgpu::TextureViewDescriptor {
+        aspect: wgpu::TextureAspect::DepthOnly,
+        ..Default::default()
+    });
+    let apply = fog
+        .create_apply(&gpu.device, wgpu::TextureFormat::Rgba16Float)
+        .unwrap();
+    let group = apply.depth_bind_group(&gpu.device, &depth_view);
+    let base = Vec4::new(0.6, 0.3, 0.1, 1.0);
+    // The fog's own choice (None) or the variant `tail`, onto the lit colour.
+    let draw = |fog: &volfog::pipeline::VolumetricFog, tail: Option<Tail>| {
+        let target = gpu.texture_2d_rgba16f("tail", [w, h], &vec![base; (w * h) as usize]);
+        let view = target.create_view(&Default::default());
+        let mut encoder = gpu.device.create_command_encoder(&Default::default());
+        match tail {
+            None => fog
+                .record_apply(&mut encoder, &apply, &view, &group)
+                .unwrap(),
+            Some(tail) => apply.record_tail(
+                &mut encoder,
+                &view,
+                fog.fog_bind_group(),
+                &group,
+                None,
+                tail,
+            ),
+        }
+        gpu.queue.submit([encoder.finish()]);
+        gpu.read_texture_rgba16f(&target).unwrap()
+    };
+    let bits = |image: &[Vec4]| -> Vec<[u32; 4]> {
+        image
+            .iter()
+            .map(|p| p.to_array().map(f32::to_bits))
+            .collect()
+    };
+
+    assert_eq!(fog.tail(), Tail::Empty);
+    let chosen = draw(&fog, None);
+    let with_tail = draw(&fog, Some(Tail::Analytic));
+    let without = draw(&fog, Some(Tail::Empty));
+    assert!(
+        chosen
+            .iter()
+            .any(|p| (*p - base).abs().max_element() > 0.05),
+        "fog is visible"
+    );
+    assert_eq!(
+        bits(&chosen),
+        bits(&without),
+        "no tail: the variant without it"
+    );
+    assert_eq!(
+        bits(&with_tail),
+        bits(&without),
+        "an empty tail changes no bit of the image"
+    );
+
+    // A frame with a tail (view space, 0.02 / m, grey): applied with it.
+    fog.prepare(
+        &gpu.queue,
+        &FrameInputs {
+            tail: HeightFog {
+                density: 0.02,
+                color: Vec3::splat(0.5),
+                ..HeightFog::none()
+            },
+            ..FrameInputs::new(view(2.0, 0.0), projection(), 0.0)
+        },
+    )
+    .unwrap();
+    let mut encoder = gpu.device.create_command_encoder(&Default::default());
+    fog.encode(&mut encoder).unwrap();
+    gpu.queue.submit([encoder.finish()]);
+    assert_eq!(fog.tail(), Tail::Analytic);
+    let chosen = draw(&fog, None);
+    let with_tail = draw(&fog, Some(Tail::Analytic));
+    let without = draw(&fog, Some(Tail::Empty));
+    assert_eq!(
+        bits(&chosen),
+        bits(&with_tail),
+        "a tail: the variant with it"
+    );
+    let view_from_clip = projection().inverse();
+    let (mut beyond, mut changed_beyond, mut changed_in_front) = (0, 0, 0);
+    for (i, d) in depths.iter().enumerate() {
+        let z = -view_from_clip.project_point3(Vec3::new(0.0, 0.0, *d)).z;
+        let changed = bits(&with_tail[i..=i]) != bits(&without[i..=i]);
+        if z > common::scene::small_config().far * 1.01 {
+            beyond += 1;
+            changed_beyond += changed as usize;
+        } else if z < common::scene::small_config().far * 0.99 {
+            changed_in_front += changed as usize;
+        }
+    }
+    eprintln!(
+        "tail 0.02 / m: {changed_beyond} of {beyond} pixels beyond the far plane changed by the \
+         tail, {changed_in_front} in front of it"
+    );
+    assert!(
+        beyond > 100 && changed_beyond == beyond,
+        "{changed_beyond} of {beyond}"
+    );
+    assert_eq!(changed_in_front, 0);
+}

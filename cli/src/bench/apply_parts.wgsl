@@ -10,7 +10,9 @@
 //                         (a uniform that is never negative): what a branch saves on
 //                         the adapter
 // The whole pass (shaders/passes/apply.wgsl) adds the analytic tail beyond the far
-// plane (volfog::apply::fog_tail) for the pixels beyond it.
+// plane (volfog::apply::fog_tail) for the pixels beyond it; the bench scene has no
+// tail, so the fog draws the variant without it (VOLFOG_APPLY_NO_TAIL), and
+// APPLY_PART_UNTAKEN stands for the cost of an apply with a tail.
 //
 // Draw: 3 vertices, no vertex buffers.
 // Bindings: group 0 the fog group (volfog::bindings), group 1 binding 0 the scene depth

@@ -179,7 +179,9 @@ pub struct ApplyBreakdown {
     pub lookup_vs_blit: f64,
     /// The whole apply with the tail behind a branch no pixel takes / blit.
     pub tail_untaken_vs_blit: f64,
-    /// The whole apply / blit (the tail for the pixels beyond the far plane).
+    /// The whole apply as the fog draws it / blit: the bench scene has no far-plane
+    /// tail, so the variant without it (`VOLFOG_APPLY_NO_TAIL`); with a tail the apply
+    /// costs about `tail_untaken_vs_blit` plus the tail of the pixels beyond far.
     pub apply_vs_blit: f64,
     /// Share of the 1080p pixels beyond the far plane (the tail's).
     pub beyond_far_fraction: f64,

@@ -123,7 +123,7 @@ pub fn table(report: &Report) -> String {
     let b = &report.apply_breakdown;
     let _ = writeln!(
         out,
-        "{:<36} {:>9.2}x / {:.2}x / {:.2}x / {:.2}x / {:.2}x  (depth texel, + view position, + volume look-up, tail not taken, apply; {:.1}% of the pixels beyond far)",
+        "{:<36} {:>9.2}x / {:.2}x / {:.2}x / {:.2}x / {:.2}x  (depth texel, + view position, + volume look-up, tail not taken, apply as drawn: the scene has no tail, so without it; {:.1}% of the pixels beyond far)",
         "apply stages / blit 1080p",
         b.depth_vs_blit,
         b.unproject_vs_blit,

@@ -92,6 +92,14 @@ impl VolumetricFog {
         )?)
     }
 
+    /// The prepared frame's far-plane tail: [`Tail::Empty`](crate::pipeline::apply::Tail::Empty)
+    /// when its density is 0, and then [`VolumetricFog::draw_apply`] and
+    /// [`VolumetricFog::record_apply`] draw the apply without it. Pass it to
+    /// [`ApplyPipeline::draw_tail`] when drawing an apply of your own.
+    pub fn tail(&self) -> crate::pipeline::apply::Tail {
+        self.tail
+    }
+
     fn check_apply(&self, apply: &ApplyPipeline) -> Result<(), FogError> {
         if apply.filtering() != self.config.apply_filtering {
             return Err(FogError::ApplyMismatch {
@@ -104,7 +112,9 @@ impl VolumetricFog {
 
     /// Draws the fullscreen apply into the caller's render pass (its colour
     /// attachment is the lit scene in `apply`'s format, loaded): `depth_group` comes
-    /// from [`ApplyPipeline::depth_bind_group`].
+    /// from [`ApplyPipeline::depth_bind_group`]. A frame prepared with an empty tail
+    /// (density 0, e.g. `HeightFog::none()`) is drawn by the variant without it: the
+    /// same image for less work per pixel.
     pub fn draw_apply(
         &self,
         pass: &mut wgpu::RenderPass<'_>,
@@ -112,12 +122,13 @@ impl VolumetricFog {
         depth_group: &wgpu::BindGroup,
     ) -> Result<(), FogError> {
         self.check_apply(apply)?;
-        apply.draw(pass, &self.fog_group, depth_group);
+        apply.draw_tail(pass, &self.fog_group, depth_group, self.tail);
         Ok(())
     }
 
     /// Records the fullscreen apply in a render pass of its own that loads `color`
-    /// (timed when timestamps are on).
+    /// (timed when timestamps are on), without the tail when the prepared frame's is
+    /// empty (as [`VolumetricFog::draw_apply`]).
     pub fn record_apply(
         &self,
         encoder: &mut wgpu::CommandEncoder,
@@ -130,7 +141,14 @@ impl VolumetricFog {
             .timestamps
             .as_ref()
             .map(|t| t.render(timings::APPLY_PAIR, true, true));
-        apply.record(encoder, color, &self.fog_group, depth_group, timestamps);
+        apply.record_tail(
+            encoder,
+            color,
+            &self.fog_group,
+            depth_group,
+            timestamps,
+            self.tail,
+        );
         Ok(())
     }
 

@@ -33,6 +33,7 @@ impl VolumetricFog {
         queue.write_buffer(&b.lighting, 0, &uniforms::to_uniform_bytes(&u.lighting));
         queue.write_buffer(&b.cascades, 0, &uniforms::to_uniform_bytes(&u.cascades));
         queue.write_buffer(&b.tail, 0, &u.tail.to_bytes());
+        self.tail = crate::pipeline::apply::Tail::of(&u.tail);
         queue.write_buffer(&b.view, 0, &uniforms::to_uniform_bytes(&u.view));
         let lights = plan.as_ref().map_or(inputs.lights, |p| p.lights.as_slice());
         if !lights.is_empty() {

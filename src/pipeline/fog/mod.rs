@@ -122,6 +122,8 @@ pub struct VolumetricFog {
     timestamps: Option<TimestampPairs>,
     /// Frames prepared so far; the prepared frame is `frames - 1`.
     frames: u32,
+    /// The prepared frame's far-plane tail: empty ones are applied without it.
+    tail: crate::pipeline::apply::Tail,
     shadows_enabled: bool,
 }
 
@@ -328,6 +330,7 @@ impl VolumetricFog {
             fog_sampler,
             timestamps,
             frames: 0,
+            tail: crate::pipeline::apply::Tail::Analytic,
             shadows_enabled: false,
         })
     }
