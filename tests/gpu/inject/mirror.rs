@@ -112,51 +112,17 @@ fn inject_matches_cpu_mirror_for_a_full_scene() {
 /// density; GPU against the CPU mirror's trilinear, repeat-addressed sample.
 #[test]
 fn density_texture_variant_matches_cpu_mirror() {
-    use volfog::cpu::inject::DensityTexture;
-    use wgpu::util::DeviceExt;
     let gpu = gpu();
     let config = volfog::pipeline::FogConfig {
         density_texture: true,
         ..small_config()
     };
-    let size = [16u32, 8, 12];
-    let texels: Vec<f32> = (0..size[0] * size[1] * size[2])
-        .map(|i| {
-            let (x, y, z) = (
-                i % size[0],
-                (i / size[0]) % size[1],
-                i / (size[0] * size[1]),
-            );
-            0.5 + 0.5
-                * ((x as f32 * 0.8).sin() * (y as f32 * 1.1).cos() + 0.3 * (z as f32 * 0.5).sin())
-                    .clamp(-1.0, 1.0)
-        })
-        .collect();
     // Stored as f16: the CPU mirror samples the rounded values.
-    let halfs: Vec<half::f16> = texels.iter().map(|v| half::f16::from_f32(*v)).collect();
-    let reference = DensityTexture {
-        size,
-        texels: halfs.iter().map(|h| h.to_f32()).collect(),
-    };
-    let texture = gpu.device.create_texture_with_data(
-        &gpu.queue,
-        &wgpu::TextureDescriptor {
-            label: Some("density"),
-            size: wgpu::Extent3d {
-                width: size[0],
-                height: size[1],
-                depth_or_array_layers: size[2],
-            },
-            mip_level_count: 1,
-            sample_count: 1,
-            dimension: wgpu::TextureDimension::D3,
-            format: wgpu::TextureFormat::R16Float,
-            usage: wgpu::TextureUsages::TEXTURE_BINDING,
-            view_formats: &[],
-        },
-        wgpu::util::TextureDataOrder::LayerMajor,
-        bytemuck::cast_slice(&halfs),
-    );
+    let (texture, reference) = super::density_texture([16, 8, 12], |x, y, z| {
+        0.5 + 0.5
+            * ((x as f32 * 0.8).sin() * (y as f32 * 1.1).cos() + 0.3 * (z as f32 * 0.5).sin())
+                .clamp(-1.0, 1.0)
+    });
     let mut fog = VolumetricFog::new(&gpu.device, &config).unwrap();
     fog.set_density_texture(&gpu.device, &texture).unwrap();
     let medium = FogMedium {

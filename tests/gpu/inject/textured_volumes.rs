@@ -11,42 +11,13 @@ use glam::{Mat4, UVec3, Vec3};
 use volfog::cpu::inject::{DensityTexture, InjectInputs, froxel_scattering};
 use volfog::pipeline::{FogConfig, FrameInputs, VolumetricFog};
 use volfog::uniforms::{FogMedium, LocalVolume, ShadowCascades, VolumeShape};
-use wgpu::util::DeviceExt;
 
 const SIZE: [u32; 3] = [16, 8, 12];
 
 /// An R16Float 3D texture of `SIZE` texels from `value(x, y, z)` and the CPU mirror's
 /// copy of its rounded values.
 fn density_texture(value: impl Fn(u32, u32, u32) -> f32) -> (wgpu::Texture, DensityTexture) {
-    let gpu = gpu();
-    let [w, h, d] = SIZE;
-    let halfs: Vec<half::f16> = (0..w * h * d)
-        .map(|i| half::f16::from_f32(value(i % w, (i / w) % h, i / (w * h))))
-        .collect();
-    let texture = gpu.device.create_texture_with_data(
-        &gpu.queue,
-        &wgpu::TextureDescriptor {
-            label: Some("volume density"),
-            size: wgpu::Extent3d {
-                width: w,
-                height: h,
-                depth_or_array_layers: d,
-            },
-            mip_level_count: 1,
-            sample_count: 1,
-            dimension: wgpu::TextureDimension::D3,
-            format: wgpu::TextureFormat::R16Float,
-            usage: wgpu::TextureUsages::TEXTURE_BINDING,
-            view_formats: &[],
-        },
-        wgpu::util::TextureDataOrder::LayerMajor,
-        bytemuck::cast_slice(&halfs),
-    );
-    let reference = DensityTexture {
-        size: SIZE,
-        texels: halfs.iter().map(|h| h.to_f32()).collect(),
-    };
-    (texture, reference)
+    super::density_texture(SIZE, value)
 }
 
 /// Two boxes in front of the camera, side by side, of extinction 0.2 / m: the left one
