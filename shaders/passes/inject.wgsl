@@ -253,10 +253,14 @@ fn froxel_scattering(id: vec3<u32>, tile_light_count: u32, tile_volume_count: u3
     for (var i = 0u; i < volume_count; i++) {
         let v = select(i, tile_volumes[min(i, TILE_VOLUMES - 1u)], gathered);
 #ifdef VOLFOG_INJECT_DENSITY_TEXTURE
-        // A textured volume reads the density texture in its own space.
+        // A textured volume reads the density texture in its own space (the volume is
+        // the same for the whole workgroup, so an untextured one skips the look-up).
         let volume = local_volumes[v];
-        let volume_factor = textureSampleLevel(density_texture, density_sampler,
-            local_volume_texture_coord(volume, world), 0.0).r;
+        var volume_factor = 1.0;
+        if volume.textured != 0u {
+            volume_factor = textureSampleLevel(density_texture, density_sampler,
+                local_volume_texture_coord(volume, world), 0.0).r;
+        }
         medium += local_volume_sample_textured(volume, world, volume_factor);
 #else
         medium += local_volume_sample(local_volumes[v], world);
