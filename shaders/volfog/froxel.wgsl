@@ -19,11 +19,19 @@ const CURVE_LINEAR_LIMIT: f32 = 1e-3;
 
 // View depth (m) at normalised slice coordinate t (t may lie outside [0, 1]).
 fn slice_depth(t: f32, near: f32, far: f32, curve: f32) -> f32 {
+    return slice_depth_grown(t, exp(curve * t), near, far, curve);
+}
+
+// slice_depth given grown = exp(curve t), which a caller walking the slices in order
+// advances by the factor exp(curve / slices) per slice instead of an exp per slice (the
+// scan; the rounding of the products drifts by less than 3e-5 of the depth over 256
+// slices). Below CURVE_LINEAR_LIMIT grown is not read.
+fn slice_depth_grown(t: f32, grown: f32, near: f32, far: f32, curve: f32) -> f32 {
     let span = far - near;
     if curve < CURVE_LINEAR_LIMIT {
         return near + span * (t + 0.5 * curve * t * (t - 1.0));
     }
-    return near + span * (exp(curve * t) - 1.0) / (exp(curve) - 1.0);
+    return near + (grown - 1.0) * (span / (exp(curve) - 1.0));
 }
 
 // Normalised slice coordinate of view depth z (m); z is clamped to >= near, so the

@@ -22,6 +22,12 @@ const SCAN_SERIES_LIMIT: f32 = 1e-2;
 
 // In-scattering of one homogeneous slice of path length ds (m), seen from its front.
 fn slice_inscatter(medium: vec4<f32>, ds: f32) -> vec3<f32> {
+    return slice_inscatter_through(medium, ds, exp(-max(medium.a, 0.0) * ds));
+}
+
+// slice_inscatter given the slice's own transmittance exp(-sigma_t ds), which the scan
+// step needs too (one exp per slice).
+fn slice_inscatter_through(medium: vec4<f32>, ds: f32, transmittance: f32) -> vec3<f32> {
 #ifdef VOLFOG_SCAN_WRONSKI_STEP
     // Wronski 2014: the slice's in-scattering enters unattenuated by its own extinction.
     return medium.rgb * ds;
@@ -29,9 +35,9 @@ fn slice_inscatter(medium: vec4<f32>, ds: f32) -> vec3<f32> {
     let sigma_t = max(medium.a, 0.0);
     let tau = sigma_t * ds;
     if tau < SCAN_SERIES_LIMIT {
-        return medium.rgb * (ds * (1.0 - tau * (0.5 - tau / 6.0)));
+        return medium.rgb * (ds * (1.0 - tau * (0.5 - tau * (1.0 / 6.0))));
     }
-    return medium.rgb * ((1.0 - exp(-tau)) / sigma_t);
+    return medium.rgb * ((1.0 - transmittance) / sigma_t);
 #endif
 }
 
@@ -39,5 +45,6 @@ fn slice_inscatter(medium: vec4<f32>, ds: f32) -> vec3<f32> {
 // and path length ds (m) behind the accumulator acc (rgb = in-scatter, a = T).
 fn scan_step(acc: vec4<f32>, medium: vec4<f32>, ds: f32) -> vec4<f32> {
     let transmittance = exp(-max(medium.a, 0.0) * ds);
-    return vec4<f32>(acc.rgb + acc.a * slice_inscatter(medium, ds), acc.a * transmittance);
+    return vec4<f32>(acc.rgb + acc.a * slice_inscatter_through(medium, ds, transmittance),
+        acc.a * transmittance);
 }

@@ -15,11 +15,32 @@ pub const CURVE_LINEAR_LIMIT: f32 = 1e-3;
 
 /// View depth (m) at normalised slice coordinate `t`.
 pub fn slice_depth(t: f32, near: f32, far: f32, curve: f32) -> f32 {
+    slice_depth_grown(t, (curve * t).exp(), near, far, curve)
+}
+
+/// [`slice_depth`] given `grown = exp(curve t)`, which a caller walking the slices in
+/// order advances by the factor `exp(curve / slices)` per slice (the scan pass); below
+/// [`CURVE_LINEAR_LIMIT`] `grown` is not read.
+///
+/// ```
+/// use volfog::cpu::froxel::{slice_depth, slice_depth_grown};
+/// let (near, far, slices) = (0.5f32, 128.0f32, 256u32);
+/// let curve = (far / near).ln();
+/// let factor = (curve / slices as f32).exp();
+/// let mut grown = 1.0f32;
+/// for k in 1..=slices {
+///     grown *= factor;
+///     let t = k as f32 / slices as f32;
+///     let walked = slice_depth_grown(t, grown, near, far, curve);
+///     assert!((walked - slice_depth(t, near, far, curve)).abs() <= 3e-5 * walked);
+/// }
+/// ```
+pub fn slice_depth_grown(t: f32, grown: f32, near: f32, far: f32, curve: f32) -> f32 {
     let span = far - near;
     if curve < CURVE_LINEAR_LIMIT {
         return near + span * (t + 0.5 * curve * t * (t - 1.0));
     }
-    near + span * ((curve * t).exp() - 1.0) / (curve.exp() - 1.0)
+    near + (grown - 1.0) * (span / (curve.exp() - 1.0))
 }
 
 /// Normalised slice coordinate of view depth `z` (clamped to `z >= near`).

@@ -27,15 +27,21 @@ pub const SCAN_SERIES_LIMIT: f32 = 1e-2;
 
 /// In-scattering of one homogeneous slice of path length `ds` seen from its front.
 pub fn slice_inscatter(medium: Vec4, ds: f32, step: ScanStep) -> Vec3 {
+    slice_inscatter_through(medium, ds, (-medium.w.max(0.0) * ds).exp(), step)
+}
+
+/// [`slice_inscatter`] given the slice's own transmittance `exp(-sigma_t ds)`, which
+/// the scan step needs too.
+pub fn slice_inscatter_through(medium: Vec4, ds: f32, transmittance: f32, step: ScanStep) -> Vec3 {
     match step {
         ScanStep::Wronski => medium.truncate() * ds,
         ScanStep::EnergyConserving => {
             let sigma_t = medium.w.max(0.0);
             let tau = sigma_t * ds;
             if tau < SCAN_SERIES_LIMIT {
-                medium.truncate() * (ds * (1.0 - tau * (0.5 - tau / 6.0)))
+                medium.truncate() * (ds * (1.0 - tau * (0.5 - tau * (1.0 / 6.0))))
             } else {
-                medium.truncate() * ((1.0 - (-tau).exp()) / sigma_t)
+                medium.truncate() * ((1.0 - transmittance) / sigma_t)
             }
         }
     }
@@ -45,5 +51,6 @@ pub fn slice_inscatter(medium: Vec4, ds: f32, step: ScanStep) -> Vec3 {
 /// length `ds` behind `acc` (rgb = in-scatter, a = transmittance).
 pub fn scan_step(acc: Vec4, medium: Vec4, ds: f32, step: ScanStep) -> Vec4 {
     let transmittance = (-medium.w.max(0.0) * ds).exp();
-    (acc.truncate() + acc.w * slice_inscatter(medium, ds, step)).extend(acc.w * transmittance)
+    (acc.truncate() + acc.w * slice_inscatter_through(medium, ds, transmittance, step))
+        .extend(acc.w * transmittance)
 }
