@@ -309,6 +309,8 @@ fn run(args: &BenchArgs) -> Result<(), BenchError> {
     ));
     let mut samples: std::collections::BTreeMap<&str, Vec<Sample>> =
         SERIES.iter().map(|(k, _)| (*k, Vec::new())).collect();
+    let mut paired: std::collections::BTreeMap<&'static str, Vec<f64>> =
+        PAIRED.iter().map(|(k, _, _)| (*k, Vec::new())).collect();
     let pick = |s: Sample| match clock {
         Clock::GpuTimestamps => s.gpu,
         Clock::CpuWallPerSubmission => s.cpu,
@@ -329,6 +331,14 @@ fn run(args: &BenchArgs) -> Result<(), BenchError> {
             start.elapsed().as_secs_f64()
         );
         if measured {
+            for (key, numerator, denominator) in PAIRED {
+                if let (Some(a), Some(b)) = (get(numerator), get(denominator)) {
+                    paired
+                        .get_mut(key)
+                        .expect("listed in PAIRED")
+                        .push(pick(a) / pick(b));
+                }
+            }
             for (key, value) in frame {
                 samples.get_mut(key).expect("listed in SERIES").push(value);
             }
@@ -354,6 +364,7 @@ fn run(args: &BenchArgs) -> Result<(), BenchError> {
             beyond_far: work.beyond_far,
             shaft_image,
             local_lights: work.local_lights.setup,
+            paired,
         },
         start,
     )?;

@@ -50,13 +50,17 @@ impl Stats {
     }
 }
 
-/// A ratio of medians and its target.
+/// A ratio and its target: of medians, or the median of per-frame ratios.
 #[derive(Debug, Clone, Serialize)]
 pub struct Ratio {
     /// What is divided by what.
     pub definition: &'static str,
     /// The ratio.
     pub value: f64,
+    /// Where the ratio is taken frame by frame: each frame's ratio, whose median is
+    /// `value`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub frames: Option<PairedRatio>,
     /// The target, e.g. "<= 1.25".
     pub target: String,
     /// Whether the target is met.
@@ -68,6 +72,7 @@ impl Ratio {
         Self {
             definition,
             value,
+            frames: None,
             target: format!("<= {limit}"),
             met: value <= limit,
         }
@@ -77,8 +82,25 @@ impl Ratio {
         Self {
             definition,
             value,
+            frames: None,
             target: format!(">= {limit}"),
             met: value >= limit,
+        }
+    }
+
+    /// The median of the per-frame ratios `frames`, at most `limit`.
+    pub(super) fn paired_at_most(frames: PairedRatio, limit: f64) -> Self {
+        Self {
+            frames: Some(frames.clone()),
+            ..Self::at_most(frames.definition, frames.median, limit)
+        }
+    }
+
+    /// The median of the per-frame ratios `frames`, at least `limit`.
+    pub(super) fn paired_at_least(frames: PairedRatio, limit: f64) -> Self {
+        Self {
+            frames: Some(frames.clone()),
+            ..Self::at_least(frames.definition, frames.median, limit)
         }
     }
 }
@@ -129,6 +151,11 @@ impl PairedRatio {
             .zip(denominator)
             .map(|(a, b)| a / b)
             .collect();
+        Self::of(definition, samples)
+    }
+
+    /// The ratios `samples`, one per frame.
+    fn of(definition: &'static str, samples: Vec<f64>) -> Self {
         let stats = Stats::new(definition, &samples);
         Self {
             definition,
@@ -363,6 +390,8 @@ pub(super) struct Extra {
     pub(super) shaft_image: ShaftImage,
     /// The shadowed local lights' setup and what their frame got.
     pub(super) local_lights: LocalLightSetup,
+    /// The ratios of [`PAIRED`], one per measured frame that ran both sides.
+    pub(super) paired: std::collections::BTreeMap<&'static str, Vec<f64>>,
 }
 
 /// The report of a run: statistics per series, ratios and memory.
@@ -381,6 +410,7 @@ pub(super) fn summarize(
         beyond_far,
         shaft_image,
         local_lights: local,
+        paired,
     } = extra;
     let series = |k: &str, c: Clock| -> Vec<f64> {
         samples[k]
@@ -409,42 +439,45 @@ pub(super) fn summarize(
         &series("froxel_4k", clock),
         &series("froxel_720p", clock),
     );
+    let per_frame =
+        |key: &str, definition: &'static str| PairedRatio::of(definition, paired[key].clone());
     let ratios = Ratios {
-        scan_vs_copy: Ratio::at_most(
-            "median scan / median copy",
-            median("scan") / median("copy"),
+        scan_vs_copy: Ratio::paired_at_most(
+            per_frame("scan_vs_copy", "scan / copy, per frame"),
             TARGET_SCAN,
         ),
-        apply_vs_blit: Ratio::at_most(
-            "median apply / median blit (1920x1080)",
-            median("apply_1080p") / median("blit_1080p"),
+        apply_vs_blit: Ratio::paired_at_most(
+            per_frame("apply_vs_blit", "apply / blit (1920x1080), per frame"),
             TARGET_APPLY,
         ),
-        raymarch_vs_froxel: Ratio::at_least(
-            "median raymarch / median (inject + temporal + scan + apply), 1080p",
-            median("raymarch_1080p") / median("froxel_1080p"),
+        raymarch_vs_froxel: Ratio::paired_at_least(
+            per_frame(
+                "raymarch_vs_froxel",
+                "raymarch / (inject + temporal + scan + apply), 1080p, per frame with the raymarch",
+            ),
             TARGET_SPEEDUP,
         ),
-        froxel_4k_vs_720p: Ratio::at_most(
-            "median over the frames of (inject + temporal + scan) behind a 3840x2160 / a \
-             1280x720 camera",
-            screens.median,
-            TARGET_SCREEN,
-        ),
+        froxel_4k_vs_720p: Ratio::paired_at_most(screens.clone(), TARGET_SCREEN),
         froxel_4k_vs_720p_frames: screens,
-        inject_vs_write: Ratio::at_most(
-            "median inject (baseline) / median plain write of the volume",
-            median("inject") / median("write"),
+        inject_vs_write: Ratio::paired_at_most(
+            per_frame(
+                "inject_vs_write",
+                "inject (baseline) / plain write of the volume, per frame",
+            ),
             TARGET_INJECT,
         ),
-        inject_fast_vs_write: Ratio::at_most(
-            "median inject (culled, checkerboard, noise texture, temporal fused) / median plain write",
-            median("inject_fast") / median("write"),
+        inject_fast_vs_write: Ratio::paired_at_most(
+            per_frame(
+                "inject_fast_vs_write",
+                "inject (culled, checkerboard, noise texture, temporal fused) / plain write, per frame",
+            ),
             TARGET_INJECT,
         ),
-        raymarch_vs_froxel_fast: Ratio::at_least(
-            "median raymarch / median fast (cull + fused inject + scan + apply), 1080p",
-            median("raymarch_1080p") / median("froxel_fast_1080p"),
+        raymarch_vs_froxel_fast: Ratio::paired_at_least(
+            per_frame(
+                "raymarch_vs_froxel_fast",
+                "raymarch / fast (cull + fused inject + scan + apply), 1080p, per frame with the raymarch",
+            ),
             TARGET_FAST_SPEEDUP,
         ),
     };

@@ -56,7 +56,7 @@ pub fn table(report: &Report) -> String {
     let _ = writeln!(
         out,
         "\n{:<36} {:>10} {:>10}  status",
-        "ratio (of medians)", "value", "target"
+        "ratio", "value", "target"
     );
     let r = &report.ratios;
     for (name, ratio) in [
@@ -95,13 +95,26 @@ pub fn table(report: &Report) -> String {
             &l.total_shadowed_vs_compiled_out,
         ),
     ] {
+        let spread = ratio
+            .frames
+            .as_ref()
+            .map(|f| {
+                format!(
+                    "  (median of {} frames, {:.3}x to {:.3}x)",
+                    f.samples.len(),
+                    f.min,
+                    f.max
+                )
+            })
+            .unwrap_or_default();
         let _ = writeln!(
             out,
-            "{:<36} {:>9.3}x {:>10}  {}",
+            "{:<36} {:>9.3}x {:>10}  {}{}",
             name,
             ratio.value,
             ratio.target,
-            status(ratio.met)
+            status(ratio.met),
+            spread
         );
     }
     let _ = writeln!(

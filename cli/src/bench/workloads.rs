@@ -54,6 +54,23 @@ pub(super) const SERIES: &[(&str, &str)] = &[
     ("local_shadowed_total", "inject + atlas, shadowed ++"),
 ];
 
+/// The target ratios taken frame by frame: (key, numerator series, denominator
+/// series). Both sides run in the same frame, so a ratio is the median of the frames'
+/// ratios and a frame slowed as a whole by the machine moves it less than a ratio of
+/// medians taken over different frames (the raymarch runs in a few of them only).
+pub(super) const PAIRED: &[(&str, &str, &str)] = &[
+    ("scan_vs_copy", "scan", "copy"),
+    ("apply_vs_blit", "apply_1080p", "blit_1080p"),
+    ("raymarch_vs_froxel", "raymarch_1080p", "froxel_1080p"),
+    ("inject_vs_write", "inject", "write"),
+    ("inject_fast_vs_write", "inject_fast", "write"),
+    (
+        "raymarch_vs_froxel_fast",
+        "raymarch_1080p",
+        "froxel_fast_1080p",
+    ),
+];
+
 pub(super) fn froxel_cost(t: &PassTimings) -> f64 {
     t.cull + t.inject + t.temporal + t.scan
 }
@@ -293,13 +310,25 @@ impl Workloads {
         ] {
             s.fog.prepare(&gpu.queue, &inputs)?;
         }
-        // The baseline and the same without light transmittance, in alternating order.
-        let ((tg, tc), untransmitted) = if f.is_multiple_of(2) {
+        // The baseline and the same without light transmittance, in alternating order;
+        // the floors right after the baseline, whose passes they are compared with.
+        let timer = &self.timer;
+        let (copy, write, blit) = (&self.copy, &self.write, &self.blit);
+        let floors = || -> Result<[Sample; 3], BenchError> {
+            Ok([
+                timer.run(gpu, 0, |e| copy.encode(e, timer, 0))?,
+                timer.run(gpu, 3, |e| write.encode(e, timer, 3))?,
+                timer.run(gpu, 1, |e| blit.encode(e, timer, 1))?,
+            ])
+        };
+        let ((tg, tc), [copy_t, write_t, blit_t], untransmitted) = if f.is_multiple_of(2) {
             let main = self.main.frame(gpu)?;
-            (main, self.untransmitted.frame(gpu)?)
+            let floors = floors()?;
+            (main, floors, self.untransmitted.frame(gpu)?)
         } else {
             let untransmitted = self.untransmitted.frame(gpu)?;
-            (self.main.frame(gpu)?, untransmitted)
+            let main = self.main.frame(gpu)?;
+            (main, floors()?, untransmitted)
         };
         let mut variants = Vec::new();
         for s in &mut self.variants[..3] {
@@ -314,10 +343,6 @@ impl Workloads {
             let separate = apart.frame(gpu)?;
             (fused.frame(gpu)?, separate)
         };
-        let timer = &self.timer;
-        let copy_t = timer.run(gpu, 0, |e| self.copy.encode(e, timer, 0))?;
-        let write_t = timer.run(gpu, 3, |e| self.write.encode(e, timer, 3))?;
-        let blit_t = timer.run(gpu, 1, |e| self.blit.encode(e, timer, 1))?;
         let mut part_t = Vec::new();
         for part in 0..APPLY_PARTS.len() {
             let slot = 8 + part as u32;

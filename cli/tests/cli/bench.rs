@@ -105,6 +105,11 @@ fn quick_bench_writes_every_ratio_memory_and_adapter() {
             "ratio {ratio} = {value}: {r}"
         );
         assert!(r["target"].is_string() && r["met"].is_boolean(), "{r}");
+        // Each target ratio is the median of its frames' ratios (one measured frame
+        // here, which runs the raymarch too).
+        let frames = r["frames"]["samples"].as_array().expect("per-frame ratios");
+        assert_eq!(frames.len(), 1, "{r}");
+        assert_eq!(frames[0].as_f64(), Some(value), "{r}");
     }
     let fused = &report["fused_temporal"];
     for key in [
