@@ -114,11 +114,8 @@ pub struct Ratios {
     pub apply_vs_blit: Ratio,
     /// Raymarch / froxel pipeline at 1080p (how many times faster the froxels are).
     pub raymarch_vs_froxel: Ratio,
-    /// Froxel pipeline behind a 4K camera / behind a 720p camera: the median of the
-    /// per-frame ratios (`froxel_4k_vs_720p_frames`).
+    /// Froxel pipeline behind a 4K camera / behind a 720p camera.
     pub froxel_4k_vs_720p: Ratio,
-    /// The same frame by frame.
-    pub froxel_4k_vs_720p_frames: PairedRatio,
     /// Inject (baseline) / a plain write of the same volume.
     pub inject_vs_write: Ratio,
     /// Inject with culling, checkerboard and noise texture, the temporal blend fused
@@ -457,8 +454,7 @@ pub(super) fn summarize(
             ),
             TARGET_SPEEDUP,
         ),
-        froxel_4k_vs_720p: Ratio::paired_at_most(screens.clone(), TARGET_SCREEN),
-        froxel_4k_vs_720p_frames: screens,
+        froxel_4k_vs_720p: Ratio::paired_at_most(screens, TARGET_SCREEN),
         inject_vs_write: Ratio::paired_at_most(
             per_frame(
                 "inject_vs_write",

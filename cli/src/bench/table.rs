@@ -177,16 +177,6 @@ pub fn table(report: &Report) -> String {
         fused.separate_inject_temporal_ms,
         fused.froxel_fast_fused_vs_separate
     );
-    let pairs = &r.froxel_4k_vs_720p_frames;
-    let _ = writeln!(
-        out,
-        "{:<36} {:>9.3}x  (median of {} frames, {:.3}x to {:.3}x)",
-        "froxel cost 4K / 720p, per frame",
-        pairs.median,
-        pairs.samples.len(),
-        pairs.min,
-        pairs.max
-    );
     let _ = writeln!(
         out,
         "{:<36} {:>9.3}x  (the sun and the scene's lights through the medium's height profile)",
