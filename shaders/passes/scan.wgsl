@@ -14,7 +14,7 @@
 // Reference: Wronski 2014, "Solving scattering equation" (RayMarchThroughVolume).
 
 #import volfog::types::Froxels
-#import volfog::froxel::{slice_depth_grown, ray_scale}
+#import volfog::froxel::{slice_walk, ray_scale}
 #import volfog::scan::{scan_step, SCAN_START}
 
 @group(0) @binding(0) var<uniform> froxels: Froxels;
@@ -39,14 +39,12 @@ fn scan(@builtin(global_invocation_id) id: vec3<u32>) {
     let live = slices;
 #endif
     var acc = SCAN_START;
-    var front = froxels.near;
-    // exp(curve t) of the slice's back boundary, advanced by a constant factor.
-    let step = 1.0 / f32(slices);
-    let factor = exp(froxels.curve * step);
-    var grown = 1.0;
+    // front and back: the slice's boundaries as depths beyond near, walked
+    // (volfog::froxel::slice_walk: no exp and no branch per slice).
+    let walk = slice_walk(slices, froxels.near, froxels.far, froxels.curve);
+    var front = 0.0;
     for (var k = 0u; k < live; k++) {
-        grown *= factor;
-        let back = slice_depth_grown(f32(k + 1u) * step, grown, froxels.near, froxels.far, froxels.curve);
+        let back = front * walk.x + walk.y;
         let medium = textureLoad(scattering, vec3<u32>(id.xy, k), 0);
         acc = scan_step(acc, medium, (back - front) * scale);
         // Clamped to the largest finite rgba16float value so no texel becomes Inf.

@@ -19,19 +19,28 @@ const CURVE_LINEAR_LIMIT: f32 = 1e-3;
 
 // View depth (m) at normalised slice coordinate t (t may lie outside [0, 1]).
 fn slice_depth(t: f32, near: f32, far: f32, curve: f32) -> f32 {
-    return slice_depth_grown(t, exp(curve * t), near, far, curve);
-}
-
-// slice_depth given grown = exp(curve t), which a caller walking the slices in order
-// advances by the factor exp(curve / slices) per slice instead of an exp per slice (the
-// scan; the rounding of the products drifts by less than 3e-5 of the depth over 256
-// slices). Below CURVE_LINEAR_LIMIT grown is not read.
-fn slice_depth_grown(t: f32, grown: f32, near: f32, far: f32, curve: f32) -> f32 {
     let span = far - near;
     if curve < CURVE_LINEAR_LIMIT {
         return near + span * (t + 0.5 * curve * t * (t - 1.0));
     }
-    return near + (grown - 1.0) * (span / (exp(curve) - 1.0));
+    return near + (exp(curve * t) - 1.0) * (span / (exp(curve) - 1.0));
+}
+
+// The slice boundaries of a volume of `slices` slices as a walk, for a caller that visits
+// them in order (the scan): with d_0 = 0 and d_(k+1) = a d_k + b, where (a, b) is the
+// result, the back of slice k lies at view depth near + d_(k+1). From z(t) above,
+// a = exp(curve / slices) and b = (far - near) (a - 1) / (exp(curve) - 1); below
+// CURVE_LINEAR_LIMIT b is its series in curve (relative error < 1e-6). No exp or branch
+// is left per slice; the rounding of the walk drifts by less than 3e-5 of the depth over
+// 256 slices.
+fn slice_walk(slices: u32, near: f32, far: f32, curve: f32) -> vec2<f32> {
+    let step = 1.0 / f32(slices);
+    let a = exp(curve * step);
+    let span = far - near;
+    if curve < CURVE_LINEAR_LIMIT {
+        return vec2<f32>(a, span * step * (1.0 + 0.5 * curve * (step - 1.0)));
+    }
+    return vec2<f32>(a, span * ((a - 1.0) / (exp(curve) - 1.0)));
 }
 
 // Normalised slice coordinate of view depth z (m); z is clamped to >= near, so the

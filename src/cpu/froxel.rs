@@ -15,32 +15,38 @@ pub const CURVE_LINEAR_LIMIT: f32 = 1e-3;
 
 /// View depth (m) at normalised slice coordinate `t`.
 pub fn slice_depth(t: f32, near: f32, far: f32, curve: f32) -> f32 {
-    slice_depth_grown(t, (curve * t).exp(), near, far, curve)
-}
-
-/// [`slice_depth`] given `grown = exp(curve t)`, which a caller walking the slices in
-/// order advances by the factor `exp(curve / slices)` per slice (the scan pass); below
-/// [`CURVE_LINEAR_LIMIT`] `grown` is not read.
-///
-/// ```
-/// use volfog::cpu::froxel::{slice_depth, slice_depth_grown};
-/// let (near, far, slices) = (0.5f32, 128.0f32, 256u32);
-/// let curve = (far / near).ln();
-/// let factor = (curve / slices as f32).exp();
-/// let mut grown = 1.0f32;
-/// for k in 1..=slices {
-///     grown *= factor;
-///     let t = k as f32 / slices as f32;
-///     let walked = slice_depth_grown(t, grown, near, far, curve);
-///     assert!((walked - slice_depth(t, near, far, curve)).abs() <= 3e-5 * walked);
-/// }
-/// ```
-pub fn slice_depth_grown(t: f32, grown: f32, near: f32, far: f32, curve: f32) -> f32 {
     let span = far - near;
     if curve < CURVE_LINEAR_LIMIT {
         return near + span * (t + 0.5 * curve * t * (t - 1.0));
     }
-    near + (grown - 1.0) * (span / (curve.exp() - 1.0))
+    near + ((curve * t).exp() - 1.0) * (span / (curve.exp() - 1.0))
+}
+
+/// The slice boundaries of a volume of `slices` slices as a walk (`slice_walk`, the
+/// scan pass): `(a, b)` such that with `d_0 = 0` and `d_(k+1) = a d_k + b` the back
+/// of slice `k` lies at view depth `near + d_(k+1)`.
+///
+/// ```
+/// use volfog::cpu::froxel::{slice_depth, slice_walk};
+/// let (near, far, slices) = (0.5f32, 128.0f32, 256u32);
+/// for curve in [(far / near).ln(), 3.0, 1e-4, 0.0] {
+///     let (a, b) = slice_walk(slices, near, far, curve);
+///     let mut d = 0.0f32;
+///     for k in 1..=slices {
+///         d = d * a + b;
+///         let want = slice_depth(k as f32 / slices as f32, near, far, curve);
+///         assert!((near + d - want).abs() <= 3e-5 * want, "curve {curve} slice {k}");
+///     }
+/// }
+/// ```
+pub fn slice_walk(slices: u32, near: f32, far: f32, curve: f32) -> (f32, f32) {
+    let step = 1.0 / slices as f32;
+    let a = (curve * step).exp();
+    let span = far - near;
+    if curve < CURVE_LINEAR_LIMIT {
+        return (a, span * step * (1.0 + 0.5 * curve * (step - 1.0)));
+    }
+    (a, span * ((a - 1.0) / (curve.exp() - 1.0)))
 }
 
 /// Normalised slice coordinate of view depth `z` (clamped to `z >= near`).

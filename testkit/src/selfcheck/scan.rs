@@ -164,14 +164,11 @@ pub fn cpu_scan(step: ScanStep, froxels: &Froxels, medium: &[Vec4]) -> Vec<Vec4>
             let uv = (Vec2::new(x as f32, y as f32) + 0.5) / Vec2::new(sx as f32, sy as f32);
             let scale = cpu::froxel::ray_scale(uv, froxels.view_from_clip);
             let mut acc = SCAN_START;
-            let mut front = froxels.near;
+            // The slice depths beyond near, walked as the pass walks them.
+            let (a, b) = cpu::froxel::slice_walk(sz, froxels.near, froxels.far, froxels.curve);
+            let mut front = 0.0;
             for z in 0..sz {
-                let back = cpu::froxel::slice_depth(
-                    (z + 1) as f32 / sz as f32,
-                    froxels.near,
-                    froxels.far,
-                    froxels.curve,
-                );
+                let back = front * a + b;
                 let i = ((z * sy + y) * sx + x) as usize;
                 acc = cpu::scan::scan_step(acc, round_f16(medium[i]), (back - front) * scale, step);
                 out[i] = acc.min(Vec4::splat(volfog::cpu::inject::HALF_MAX));
