@@ -398,9 +398,11 @@ pub const PASSES: &[PassSource] = &[
                 the spot lights' shadow maps and the point lights' cube maps (six layers \
                 a cube) as 2D arrays of depth, bound as unfilterable float, each the \
                 atlas size times a whole factor (bind a 1 x 1 array where there is none); \
-                binding 3 the atlas (r32float 2D array storage, write). Then run \
+                binding 3 the atlas (r32float 2D array storage, write); binding 4 a \
+                non-filtering sampler (nearest, clamp to edge) for the maps' gathers. Then run \
                 esm_blur_x from the atlas into a temporary array and esm_blur_y back over \
-                the n written layers (the layers are written from 0 up)."
+                the n written layers (the layers are written from 0 up).",
+        non_filtering: &["gather_sampler"]
     ),
     pass!(
         "noise_bake",

@@ -9,9 +9,10 @@
 //   0  texture_2d_array<f32>: source ESM (R32Float, textureLoad)
 //   1  texture_storage_2d_array<r32float, write>: filtered ESM
 // Edges clamp. Defines: VOLFOG_ESM_BLUR_RADIUS=N (1..=16, default 5),
-// VOLFOG_ESM_LOG_SPACE (averages in the linear domain of log-space values).
+// VOLFOG_ESM_LOG_SPACE (averages in the linear domain of log-space values: one streaming
+// log-sum-exp over the window, volfog::esm::esm_sum_add4).
 
-#import volfog::esm::esm_merge
+#import volfog::esm::{ESM_SUM_EMPTY, esm_sum_add4, esm_sum_mean}
 
 @group(0) @binding(0) var unfiltered: texture_2d_array<f32>;
 @group(0) @binding(1) var filtered: texture_storage_2d_array<r32float, write>;
@@ -36,10 +37,16 @@ fn blur(axis: u32, lid: i32, start: i32, fixed: i32, layer: u32) {
     if p >= length {
         return;
     }
-    var mean = segment[lid];
-    for (var k = 1; k <= 2 * RADIUS; k++) {
-        mean = esm_merge(mean, f32(k), segment[lid + k], 1.0);
+    // The window's 2 RADIUS + 1 values, four at a time (the last four overhang it).
+    let last = lid + 2 * RADIUS;
+    var sum = ESM_SUM_EMPTY;
+    for (var k = 0; k <= 2 * RADIUS; k += 4) {
+        let at = lid + k;
+        let v = vec4<f32>(segment[at], segment[min(at + 1, last)], segment[min(at + 2, last)],
+            segment[min(at + 3, last)]);
+        sum = esm_sum_add4(sum, v, vec4<f32>(vec4<i32>(at) + vec4<i32>(0, 1, 2, 3) <= vec4<i32>(last)));
     }
+    let mean = esm_sum_mean(sum, f32(2 * RADIUS + 1));
     let coord = select(vec2<i32>(p, fixed), vec2<i32>(fixed, p), axis == 1u);
     textureStore(filtered, coord, layer, vec4<f32>(mean, 0.0, 0.0, 0.0));
 }

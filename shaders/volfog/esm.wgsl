@@ -44,6 +44,35 @@ fn esm_merge(a: f32, na: f32, b: f32, nb: f32) -> f32 {
 #endif
 }
 
+// A running sum for the mean of many occluder values in one pass, four at a time:
+// start from ESM_SUM_EMPTY, add with esm_sum_add4, end with esm_sum_mean. In log space
+// x is the largest value added so far and y the sum of exp(value - x), rescaled when x
+// grows (a streaming log-sum-exp: no second pass to find the largest first, and no
+// exponent above 0, so nothing overflows); in linear space y is the plain sum.
+const ESM_SUM_EMPTY: vec2<f32> = vec2<f32>(-1.0e30, 0.0);
+
+// Adds the values of v to a running sum, each with weight 1 (added) or 0 (left out).
+fn esm_sum_add4(sum: vec2<f32>, v: vec4<f32>, weight: vec4<f32>) -> vec2<f32> {
+#ifdef VOLFOG_ESM_LOG_SPACE
+    // Left-out values are moved far below every kept one, so they set no peak.
+    let masked = v - (1.0 - weight) * 1.0e30;
+    let peak = max(sum.x, max(max(masked.x, masked.y), max(masked.z, masked.w)));
+    let terms = weight * exp(masked - peak);
+    return vec2<f32>(peak, sum.y * exp(sum.x - peak) + dot(terms, vec4<f32>(1.0)));
+#else
+    return vec2<f32>(sum.x, sum.y + dot(v, weight));
+#endif
+}
+
+// Mean of the n >= 1 values added to a running sum.
+fn esm_sum_mean(sum: vec2<f32>, n: f32) -> f32 {
+#ifdef VOLFOG_ESM_LOG_SPACE
+    return sum.x + log(sum.y / n);
+#else
+    return sum.y / n;
+#endif
+}
+
 // Visibility in [0, 1] of a receiver at depth `receiver` given a filtered occluder value.
 fn esm_visibility(occluder: f32, receiver: f32, exponent: f32) -> f32 {
 #ifdef VOLFOG_ESM_LOG_SPACE

@@ -10,9 +10,11 @@
 //! assert_eq!(c.uv, glam::Vec2::splat(0.5));
 //! ```
 
-use glam::{Mat4, Vec2, Vec3, Vec4};
+use glam::{Mat4, UVec2, Vec2, Vec3, Vec4};
 
-use super::esm::{Layer, esm_encode, esm_occluder, esm_visibility};
+use super::esm::{
+    ESM_SUM_EMPTY, Layer, esm_encode, esm_occluder, esm_sum_add4, esm_sum_mean, esm_visibility,
+};
 use super::frustum::frustum_depth_from_terms;
 use crate::uniforms::{
     LOCAL_SHADOW_NONE, LOCAL_SHADOW_POINT, LOCAL_SHADOW_SPOT, LightProjection, LocalShadowSource,
@@ -168,10 +170,11 @@ pub fn light_cookie(cookies: &[ColorLayer], p: &LightProjection, world: Vec3) ->
 
 /// The `local_shadow_downsample` pass for one source: each atlas texel is the mean
 /// occluder value of a `factor x factor` block of the depth layer (`factor` = depth
-/// width / `size`).
+/// width / `size`), summed 2 x 2 texels at a time with [`esm_sum_add4`] as the pass's
+/// gathers do (texels past the block's edge, where `factor` is odd, left out).
 pub fn downsample(depth: &Layer, source: &LocalShadowSource, size: u32, log_space: bool) -> Layer {
     let factor = (depth.width / size).max(1);
-    let n = (factor * factor) as f32;
+    let rows = factor.div_ceil(2);
     let encode = |d: f32| {
         local_shadow_encode(
             source.depth_terms,
@@ -184,23 +187,27 @@ pub fn downsample(depth: &Layer, source: &LocalShadowSource, size: u32, log_spac
     let mut texels = Vec::with_capacity((size * size) as usize);
     for y in 0..size {
         for x in 0..size {
-            let block = || {
-                (0..factor).flat_map(move |j| {
-                    (0..factor)
-                        .map(move |i| depth.at((x * factor + i) as i32, (y * factor + j) as i32))
-                })
-            };
-            let value = if log_space {
-                let far = block()
-                    .map(|d| local_shadow_linear_depth(source.depth_terms, d, source.depth_range))
-                    .fold(0.0f32, f32::max);
-                let peak = source.exponent * far;
-                let sum: f32 = block().map(|d| (encode(d) - peak).exp()).sum();
-                peak + (sum / n).ln()
-            } else {
-                block().map(encode).sum::<f32>() / n
-            };
-            texels.push(value);
+            let (origin, last) = (
+                UVec2::new(x, y) * factor,
+                UVec2::new(x, y) * factor + factor - 1,
+            );
+            let mut sum = ESM_SUM_EMPTY;
+            for j in 0..rows {
+                for i in 0..rows {
+                    let a = origin + 2 * UVec2::new(i, j);
+                    let b = (a + 1).min(last);
+                    let at = |x: u32, y: u32| encode(depth.at(x as i32, y as i32));
+                    // In the order of the pass's gather.
+                    let v = Vec4::new(at(a.x, b.y), at(b.x, b.y), at(b.x, a.y), at(a.x, a.y));
+                    let inside = Vec2::new(
+                        f32::from(u8::from(a.x < last.x)),
+                        f32::from(u8::from(a.y < last.y)),
+                    );
+                    let weight = Vec4::new(inside.y, inside.x * inside.y, inside.x, 1.0);
+                    sum = esm_sum_add4(sum, v, weight, log_space);
+                }
+            }
+            texels.push(esm_sum_mean(sum, (factor * factor) as f32, log_space));
         }
     }
     Layer {
@@ -323,5 +330,37 @@ mod tests {
         let mean = 0.5 * ((20.0f32 * 0.25).exp() + (20.0f32 * 0.75).exp());
         assert!((linear - mean).abs() < 1e-5 * mean);
         assert!((log - mean.ln()).abs() < 1e-5);
+    }
+
+    /// An odd factor: each atlas texel is the mean of its own 3 x 3 block, whatever
+    /// lies beyond it (the pass's 2 x 2 quads overhang the block and leave that out).
+    #[test]
+    fn downsample_by_an_odd_factor_keeps_to_each_block() {
+        let source = LocalShadowSource {
+            depth_terms: Vec4::new(-1.0, 0.0, 0.0, 1.0), // view depth = d (m)
+            depth_range: 8.0,
+            exponent: 30.0,
+            ..Default::default()
+        };
+        let depth = Layer {
+            width: 6,
+            height: 6,
+            texels: (0..36).map(|i| 0.5 + ((i * 7) % 13) as f32 * 0.5).collect(),
+        };
+        for log_space in [false, true] {
+            let atlas = downsample(&depth, &source, 2, log_space);
+            for (t, got) in atlas.texels.iter().enumerate() {
+                let (bx, by) = (t % 2 * 3, t / 2 * 3);
+                let block: Vec<f64> = (0..9)
+                    .map(|k| f64::from(depth.texels[(by + k / 3) * 6 + bx + k % 3]) / 8.0 * 30.0)
+                    .collect();
+                let mean = block.iter().map(|z| z.exp()).sum::<f64>() / 9.0;
+                let want = if log_space { mean.ln() } else { mean };
+                assert!(
+                    (f64::from(*got) - want).abs() <= 1e-5 * want.abs(),
+                    "log space {log_space}, texel {t}: {got} against {want}"
+                );
+            }
+        }
     }
 }

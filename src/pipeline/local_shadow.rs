@@ -4,8 +4,8 @@
 
 use super::esm::ESM_FORMAT;
 use super::{
-    bind_group, bind_group_layout, compute_pipeline, shader_module, storage_buffer_entry,
-    storage_entry, texture_entry,
+    bind_group, bind_group_layout, compute_pipeline, sampler_entry, shader_module,
+    storage_buffer_entry, storage_entry, texture_entry,
 };
 use crate::shaders::CodegenError;
 
@@ -17,6 +17,7 @@ pub const WORKGROUP: u32 = 8;
 pub struct LocalShadowPass {
     layout: wgpu::BindGroupLayout,
     pipeline: wgpu::ComputePipeline,
+    gather_sampler: wgpu::Sampler,
 }
 
 impl LocalShadowPass {
@@ -31,14 +32,15 @@ impl LocalShadowPass {
 
     /// Layout: 0 `array<LocalShadowSource>`, 1 the spot shadow maps, 2 the point
     /// shadow maps (2D arrays, unfilterable float), 3 the atlas (R32Float storage
-    /// array).
-    pub fn layout_entries() -> [wgpu::BindGroupLayoutEntry; 4] {
+    /// array), 4 the non-filtering sampler of the depth maps' gathers.
+    pub fn layout_entries() -> [wgpu::BindGroupLayoutEntry; 5] {
         let c = wgpu::ShaderStages::COMPUTE;
         [
             storage_buffer_entry(0, c, true),
             texture_entry(1, c, wgpu::TextureViewDimension::D2Array, false),
             texture_entry(2, c, wgpu::TextureViewDimension::D2Array, false),
             storage_entry(3, wgpu::TextureViewDimension::D2Array, ESM_FORMAT),
+            sampler_entry(4, c, false),
         ]
     }
 
@@ -57,11 +59,20 @@ impl LocalShadowPass {
             "local_shadow_downsample",
             &layout,
         );
-        Ok(Self { layout, pipeline })
+        // Nearest, clamp to edge: the gathers read whole texels.
+        let gather_sampler = device.create_sampler(&wgpu::SamplerDescriptor {
+            label: Some("volfog local_shadow_downsample gather"),
+            ..Default::default()
+        });
+        Ok(Self {
+            layout,
+            pipeline,
+            gather_sampler,
+        })
     }
 
-    /// A bind group: the sources buffer, the two depth arrays (D2Array views) and the
-    /// atlas (a D2Array view of its storage texture).
+    /// A bind group: the sources buffer, the two depth arrays (D2Array views), the
+    /// atlas (a D2Array view of its storage texture) and the pass's gather sampler.
     pub fn bind_group(
         &self,
         device: &wgpu::Device,
@@ -79,6 +90,7 @@ impl LocalShadowPass {
                 (1, wgpu::BindingResource::TextureView(spot_maps)),
                 (2, wgpu::BindingResource::TextureView(point_maps)),
                 (3, wgpu::BindingResource::TextureView(atlas)),
+                (4, wgpu::BindingResource::Sampler(&self.gather_sampler)),
             ],
         )
     }
