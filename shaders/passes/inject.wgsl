@@ -112,7 +112,7 @@
 #endif
 #ifdef VOLFOG_INJECT_TEMPORAL
 #import volfog::types::HistoryState
-#import volfog::temporal::{temporal_history_uvw, temporal_blend}
+#import volfog::temporal::{temporal_history_column, temporal_history_slice_uvw, temporal_blend}
 #ifdef VOLFOG_FROXEL_CULL
 #import volfog::temporal::temporal_history_live
 #endif
@@ -199,10 +199,15 @@ fn live(xy: vec2<u32>) -> u32 {
 }
 
 #ifdef VOLFOG_INJECT_TEMPORAL
-// The stabilised value of froxel id, whose value this frame is now (as the temporal
-// pass computes it).
-fn stabilise(id: vec3<u32>, now: vec4<f32>) -> vec4<f32> {
-    let at = temporal_history_uvw(id, froxels, frame.world_from_view, history_state, frame.history_enabled);
+// The history's clip coordinates along column xy (volfog::temporal).
+fn history_column(xy: vec2<u32>) -> mat2x4<f32> {
+    return temporal_history_column(xy, froxels, frame.world_from_view, history_state);
+}
+
+// The stabilised value of froxel id of column `column` (history_column), whose value
+// this frame is now (as the temporal pass computes it).
+fn stabilise(column: mat2x4<f32>, id: vec3<u32>, now: vec4<f32>) -> vec4<f32> {
+    let at = temporal_history_slice_uvw(column, id.z, froxels, history_state.valid, frame.history_enabled);
     if at.w == 0.0 {
         return now;
     }
@@ -429,9 +434,10 @@ fn inject(
 #ifdef VOLFOG_INJECT_TEMPORAL
     // Both froxels of the pair within the live slices, each with its own history (the
     // one not injected takes the history alone, or this value where there is none).
-    textureStore(scattering, pair, stabilise(pair, value));
+    let column = history_column(pair.xy);
+    textureStore(scattering, pair, stabilise(column, pair, value));
     if second.z < min(live(pair.xy), froxels.size.z) {
-        textureStore(scattering, second, stabilise(second, value));
+        textureStore(scattering, second, stabilise(column, second, value));
     }
 #else
     textureStore(scattering, pair, value);
@@ -445,7 +451,7 @@ fn inject(
         return;
     }
 #ifdef VOLFOG_INJECT_TEMPORAL
-    textureStore(scattering, id, stabilise(id, froxel_scattering(id, tile_light_count, tile_volume_count)));
+    textureStore(scattering, id, stabilise(history_column(id.xy), id, froxel_scattering(id, tile_light_count, tile_volume_count)));
 #else
     textureStore(scattering, id, froxel_scattering(id, tile_light_count, tile_volume_count));
 #endif

@@ -46,7 +46,7 @@
 
 #import volfog::types::{Froxels, FogFrame, HistoryState}
 #import volfog::froxel::{froxel_injected, froxel_block_unpack, FROXEL_BLOCK_X, FROXEL_BLOCK_Y, FROXEL_BLOCK_Z}
-#import volfog::temporal::{temporal_history_uvw, temporal_blend}
+#import volfog::temporal::{temporal_history_column, temporal_history_slice_uvw, temporal_blend}
 #ifdef VOLFOG_FROXEL_CULL
 #import volfog::temporal::temporal_history_live
 #endif
@@ -75,8 +75,8 @@ fn live(xy: vec2<u32>) -> u32 {
 }
 
 // The stabilised value of froxel id, whose value this frame is now.
-fn stabilise(id: vec3<u32>, now: vec4<f32>) -> vec4<f32> {
-    let at = temporal_history_uvw(id, froxels, frame.world_from_view, history_state, frame.history_enabled);
+fn stabilise(column: mat2x4<f32>, id: vec3<u32>, now: vec4<f32>) -> vec4<f32> {
+    let at = temporal_history_slice_uvw(column, id.z, froxels, history_state.valid, frame.history_enabled);
     if at.w == 0.0 {
         return now;
     }
@@ -108,7 +108,8 @@ fn temporal(
         return;
     }
     let slices = min(live(pair.xy), froxels.size.z);
+    let column = temporal_history_column(pair.xy, froxels, frame.world_from_view, history_state);
     for (var id = pair; id.z < min(pair.z + 2u, slices); id.z++) {
-        textureStore(stabilised, id, stabilise(id, textureLoad(current, id, 0)));
+        textureStore(stabilised, id, stabilise(column, id, textureLoad(current, id, 0)));
     }
 }

@@ -2,7 +2,7 @@
 // centre lands in the history volume, whether the history holds live texels there, and
 // how the history blends with this frame's value.
 //
-// Use:      #import volfog::temporal::{temporal_history_uvw, temporal_blend, ...}
+// Use:      #import volfog::temporal::{temporal_history_column, temporal_history_slice_uvw, temporal_blend, ...}
 // Defines:  none
 // Reference: Wronski 2014, "Temporal reprojection" and "Volumetric reprojection": each
 //           frame's froxels are blended with last frame's volume, sampled where the
@@ -13,28 +13,48 @@
 #define_import_path volfog::temporal
 
 #import volfog::types::{Froxels, HistoryState}
-#import volfog::froxel::{froxel_view_position, slice_coord, uv_from_ndc}
+#import volfog::froxel::{ndc_from_uv, slice_coord, slice_depth, uv_from_ndc, view_from_ndc}
 
 // Below this trilinear weight (per axis) a history texel is not required to be live.
 const TEMPORAL_HISTORY_REACH: f32 = 0.015625;
 
-// The history volume's texture coordinates (xyz in [0, 1]) of the centre of froxel id
-// of the volume `grid` (not its jittered sample: each history texel stands for its whole froxel, so a
-// static camera reads history texels exactly), projected with the camera the history
-// was written with (state, not the previous frame's inputs). w is 1 where the history
-// is usable there, 0 where it is not: history_enabled 0 (a camera cut), a history never
-// written (state.valid 0), the centre behind that camera or outside its volume.
-fn temporal_history_uvw(
-    id: vec3<u32>,
+// The history camera's clip coordinates along the centre ray of froxel column xy of
+// the volume `grid`: the point of the ray at view depth z (m) lands at
+// column[0] * z + column[1], with the camera the history was written with (state,
+// not the previous frame's inputs). Every slice of a column shares the ray, so a pass
+// that reprojects several froxels of one column (a pair of slices) computes it once.
+fn temporal_history_column(
+    xy: vec2<u32>,
     grid: Froxels,
     world_from_view: mat4x4<f32>,
     state: HistoryState,
+) -> mat2x4<f32> {
+    let cell = (vec2<f32>(xy) + 0.5) / vec2<f32>(grid.size.xy);
+    let ray = view_from_ndc(vec3<f32>(ndc_from_uv(cell), 0.5), grid.view_from_clip);
+    // The ray per metre of view depth.
+    let step = ray / max(abs(ray.z), 1e-30);
+    return mat2x4<f32>(
+        state.clip_from_world * (world_from_view * vec4<f32>(step, 0.0)),
+        state.clip_from_world * world_from_view[3]);
+}
+
+// The history volume's texture coordinates (xyz in [0, 1]) of the centre of the
+// froxel in slice `slice` of a column (temporal_history_column) of the volume `grid`
+// (not its jittered sample: each history texel stands for its whole froxel, so a
+// static camera reads history texels exactly). w is 1 where the history is usable
+// there, 0 where it is not: history_enabled 0 (a camera cut), a history never written
+// (valid 0, HistoryState.valid), the centre behind the history's camera or outside its
+// volume.
+fn temporal_history_slice_uvw(
+    column: mat2x4<f32>,
+    slice: u32,
+    grid: Froxels,
+    valid: u32,
     history_enabled: u32,
 ) -> vec4<f32> {
-    let view = froxel_view_position(
-        id, vec3<f32>(0.0), grid.size, grid.view_from_clip, grid.near, grid.far, grid.curve);
-    let clip = state.clip_from_world * (world_from_view * vec4<f32>(view, 1.0));
-    if history_enabled == 0u || state.valid == 0u || clip.w <= 1e-6 {
+    let depth = slice_depth((f32(slice) + 0.5) / f32(grid.size.z), grid.near, grid.far, grid.curve);
+    let clip = column[0] * depth + column[1];
+    if history_enabled == 0u || valid == 0u || clip.w <= 1e-6 {
         return vec4<f32>(0.0);
     }
     let uv = uv_from_ndc(clip.xy / clip.w);
@@ -43,6 +63,18 @@ fn temporal_history_uvw(
         return vec4<f32>(0.0);
     }
     return vec4<f32>(uvw, 1.0);
+}
+
+// temporal_history_slice_uvw for froxel id alone (its column computed for it).
+fn temporal_history_uvw(
+    id: vec3<u32>,
+    grid: Froxels,
+    world_from_view: mat4x4<f32>,
+    state: HistoryState,
+    history_enabled: u32,
+) -> vec4<f32> {
+    let column = temporal_history_column(id.xy, grid, world_from_view, state);
+    return temporal_history_slice_uvw(column, id.z, grid, state.valid, history_enabled);
 }
 
 // Whether every texel the trilinear look-up of a volume of `size` froxels at uvw weighs
