@@ -182,6 +182,126 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     assert!(worst <= 5e-5, "{worst}");
 }
 
+/// View depths and fog coordinates from depth-buffer values (the apply pass's path:
+/// `volfog::froxel::view_from_ndc`, `volfog::apply::fog_coord_from_ndc`) on the GPU
+/// against the CPU mirror, and the depths against the inverse projection taken
+/// in f64, for a standard, a reversed and an infinite reversed projection with
+/// off-centre (jittered) offsets, and depths from the near plane to infinity.
+#[test]
+fn view_depths_from_the_depth_buffer_match_cpu_and_the_inverse_projection() {
+    use glam::{DVec4, Mat4, Vec3, Vec4};
+    use volfog::cpu::apply::fog_coord_from_ndc;
+    use volfog::cpu::froxel::view_from_ndc;
+    use volfog::uniforms::Froxels;
+    const KERNEL: &str = r#"
+#import volfog::types::Froxels
+#import volfog::froxel::view_from_ndc
+#import volfog::apply::fog_coord_from_ndc
+
+struct Case { froxels: Froxels, ndc: vec4<f32> }
+@group(0) @binding(0) var<storage, read> input: array<Case>;
+@group(0) @binding(1) var<storage, read_write> output: array<vec4<f32>>;
+
+@compute @workgroup_size(64)
+fn main(@builtin(global_invocation_id) id: vec3<u32>) {
+    if id.x >= arrayLength(&input) { return; }
+    let c = input[id.x];
+    output[2u * id.x] = vec4<f32>(view_from_ndc(c.ndc.xyz, c.froxels.view_from_clip), 0.0);
+    output[2u * id.x + 1u] = fog_coord_from_ndc(c.ndc.xyz, c.froxels);
+}
+"#;
+    use glam::camera::rh::proj::directx as proj;
+    let gpu = gpu();
+    let mut rng = common::Rng(11);
+    let jitter = |mut m: Mat4, x: f32, y: f32| {
+        m.z_axis.x = x;
+        m.z_axis.y = y;
+        m
+    };
+    // A reversed finite projection swaps near and far.
+    let projections = [
+        ("standard", proj::perspective(1.0, 1.6, 0.1, 500.0), false),
+        (
+            "reversed",
+            jitter(proj::perspective(0.9, 1.78, 800.0, 0.2), 0.004, -0.003),
+            true,
+        ),
+        (
+            "infinite reversed",
+            jitter(
+                proj::perspective_infinite_reverse(1.2, 1.0, 0.05),
+                -0.002,
+                0.001,
+            ),
+            true,
+        ),
+    ];
+    let (mut bytes, mut cases) = (Vec::new(), Vec::new());
+    for (name, projection, reversed) in projections {
+        let froxels =
+            Froxels::new(projection, glam::UVec3::new(160, 90, 128), 0.5, 128.0, 4.0).unwrap();
+        for i in 0..128 {
+            // Depth-buffer values of view depths from 0.25 m to 1000 m, and the far
+            // end of the buffer (infinity for the infinite projection).
+            let target = if i == 0 {
+                f32::INFINITY
+            } else {
+                rng.log(0.25, 1000.0)
+            };
+            let clip = projection * Vec4::new(0.0, 0.0, -target.min(1e30), 1.0);
+            let far_value = if reversed { 0.0 } else { 1.0 };
+            let d = if i == 0 {
+                far_value
+            } else {
+                (clip.z / clip.w).clamp(0.0, 1.0)
+            };
+            let ndc = Vec3::new(rng.range(-1.0, 1.0), rng.range(-1.0, 1.0), d);
+            bytes.extend(volfog::uniforms::to_uniform_bytes(&froxels));
+            bytes.extend_from_slice(bytemuck::cast_slice::<f32, u8>(&ndc.extend(1.0).to_array()));
+            cases.push((name, projection, froxels, ndc));
+        }
+    }
+    let count = cases.len();
+    let module = gpu.shader_from_naga("ndc depths", common::compose(KERNEL, &[]));
+    let out = gpu
+        .run_kernel(&module, "main", &bytes, (count * 32) as u64, count as u32)
+        .unwrap();
+    let got: &[Vec4] = bytemuck::cast_slice(&out);
+    let (mut worst_cpu, mut worst_coord, mut worst_f64) = (0.0f32, 0.0f32, 0.0f64);
+    for (i, (name, projection, froxels, ndc)) in cases.iter().enumerate() {
+        let depth = got[2 * i].z.abs();
+        let want = view_from_ndc(*ndc, froxels.view_from_clip).z.abs();
+        let coord = fog_coord_from_ndc(*ndc, froxels);
+        assert!(
+            depth.is_finite() && depth >= 0.0,
+            "{name}: {depth} at {ndc}"
+        );
+        worst_coord = worst_coord.max((got[2 * i + 1] - coord).abs().max_element());
+        let relative = |a: f64, b: f64| (a - b).abs() / b.max(1e-30);
+        worst_cpu = worst_cpu.max(relative(depth as f64, want as f64) as f32);
+        // The inverse projection in f64.
+        let p = projection.as_dmat4().inverse()
+            * DVec4::new(ndc.x as f64, ndc.y as f64, ndc.z as f64, 1.0);
+        if p.w.abs() < 1e-12 {
+            // The far end of the infinite projection (w is 0 in f32, about 1e-17 in
+            // f64): a depth beyond any scene.
+            assert!(depth >= 1e12, "{name}: {depth} at infinity");
+            continue;
+        }
+        worst_f64 = worst_f64.max(relative(depth as f64, (p.z / p.w).abs()));
+        worst_coord = worst_coord.max((got[2 * i + 1] - coord).abs().max_element());
+    }
+    // The CPU mirror evaluates the same f32 expressions: 1e-6 relative. Against f64,
+    // f32 rounding of the inverse projection near the far end of a standard depth
+    // buffer (where a depth value step is metres) loses digits: 1e-3 relative.
+    eprintln!(
+        "view_from_ndc: {count} depth values, 3 projections: vs CPU {worst_cpu:e} relative (bound 1e-6), vs f64 inverse projection {worst_f64:e} (bound 1e-3); fog_coord_from_ndc vs CPU {worst_coord:e} (bound 1e-5)"
+    );
+    assert!(worst_cpu <= 1e-6, "{worst_cpu}");
+    assert!(worst_f64 <= 1e-3, "{worst_f64}");
+    assert!(worst_coord <= 1e-5, "{worst_coord}");
+}
+
 /// A multisampled scene fogged before its resolve: `create_apply_multisampled` draws
 /// into a 4x colour target whose samples hold different colours (written per sample),
 /// and every sample blends the pixel's fog onto its own colour, so the resolve is the
