@@ -15,14 +15,20 @@
 //          the standard depth that ShadowCascades.light_from_world gives receivers.
 
 #import volfog::types::ShadowCascades
-#import volfog::esm::{esm_encode, esm_mean4, esm_merge}
+#import volfog::esm::{esm_encode, esm_sum_add4, esm_sum_mean, ESM_SUM_EMPTY}
 
 @group(0) @binding(0) var<uniform> shadow_cascades: ShadowCascades;
 @group(0) @binding(1) var shadow_map: texture_2d_array<f32>;
 @group(0) @binding(2) var gather_sampler: sampler;
 @group(0) @binding(3) var esm_out: texture_storage_2d_array<r32float, write>;
 
-fn encode4(d: vec4<f32>) -> vec4<f32> {
+// Occluder values of four gathered shadow-map texels.
+fn encode4(gathered: vec4<f32>) -> vec4<f32> {
+#ifdef VOLFOG_ESM_REVERSED_Z
+    let d = 1.0 - gathered;
+#else
+    let d = gathered;
+#endif
     let c = shadow_cascades.exponent;
     return vec4<f32>(esm_encode(d.x, c), esm_encode(d.y, c), esm_encode(d.z, c), esm_encode(d.w, c));
 }
@@ -35,20 +41,18 @@ fn esm_downsample(@builtin(global_invocation_id) id: vec3<u32>) {
     }
     let in_size = vec2<f32>(textureDimensions(shadow_map));
     // The centre of the 4x4 block's top-left 2x2 quad: gathers at offsets (0,0), (2,0),
-    // (0,2), (2,2) cover the whole block.
+    // (0,2), (2,2) cover the whole block; their 16 values are summed in one pass
+    // (volfog::esm, the running sum).
     let uv = (vec2<f32>(id.xy * 4u) + 1.0) / in_size;
     let layer = id.z;
-#ifdef VOLFOG_ESM_REVERSED_Z
-    let a = esm_mean4(encode4(1.0 - textureGather(0, shadow_map, gather_sampler, uv, layer, vec2<i32>(0, 0))));
-    let b = esm_mean4(encode4(1.0 - textureGather(0, shadow_map, gather_sampler, uv, layer, vec2<i32>(2, 0))));
-    let c = esm_mean4(encode4(1.0 - textureGather(0, shadow_map, gather_sampler, uv, layer, vec2<i32>(0, 2))));
-    let d = esm_mean4(encode4(1.0 - textureGather(0, shadow_map, gather_sampler, uv, layer, vec2<i32>(2, 2))));
-#else
-    let a = esm_mean4(encode4(textureGather(0, shadow_map, gather_sampler, uv, layer, vec2<i32>(0, 0))));
-    let b = esm_mean4(encode4(textureGather(0, shadow_map, gather_sampler, uv, layer, vec2<i32>(2, 0))));
-    let c = esm_mean4(encode4(textureGather(0, shadow_map, gather_sampler, uv, layer, vec2<i32>(0, 2))));
-    let d = esm_mean4(encode4(textureGather(0, shadow_map, gather_sampler, uv, layer, vec2<i32>(2, 2))));
-#endif
-    let value = esm_merge(esm_merge(a, 4.0, b, 4.0), 8.0, esm_merge(c, 4.0, d, 4.0), 8.0);
-    textureStore(esm_out, id.xy, layer, vec4<f32>(value, 0.0, 0.0, 0.0));
+    let kept = vec4<f32>(1.0);
+    var sum = esm_sum_add4(ESM_SUM_EMPTY,
+        encode4(textureGather(0, shadow_map, gather_sampler, uv, layer, vec2<i32>(0, 0))), kept);
+    sum = esm_sum_add4(sum,
+        encode4(textureGather(0, shadow_map, gather_sampler, uv, layer, vec2<i32>(2, 0))), kept);
+    sum = esm_sum_add4(sum,
+        encode4(textureGather(0, shadow_map, gather_sampler, uv, layer, vec2<i32>(0, 2))), kept);
+    sum = esm_sum_add4(sum,
+        encode4(textureGather(0, shadow_map, gather_sampler, uv, layer, vec2<i32>(2, 2))), kept);
+    textureStore(esm_out, id.xy, layer, vec4<f32>(esm_sum_mean(sum, 16.0), 0.0, 0.0, 0.0));
 }

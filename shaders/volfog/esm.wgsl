@@ -24,26 +24,6 @@ fn esm_encode(depth: f32, exponent: f32) -> f32 {
 #endif
 }
 
-// Mean of four occluder values (a log-sum-exp in log space).
-fn esm_mean4(v: vec4<f32>) -> f32 {
-#ifdef VOLFOG_ESM_LOG_SPACE
-    let m = max(max(v.x, v.y), max(v.z, v.w));
-    return m + log(dot(exp(v - m), vec4<f32>(0.25)));
-#else
-    return dot(v, vec4<f32>(0.25));
-#endif
-}
-
-// Combines two means of n1 and n2 values into the mean of all n1 + n2.
-fn esm_merge(a: f32, na: f32, b: f32, nb: f32) -> f32 {
-#ifdef VOLFOG_ESM_LOG_SPACE
-    let m = max(a, b);
-    return m + log((na * exp(a - m) + nb * exp(b - m)) / (na + nb));
-#else
-    return (na * a + nb * b) / (na + nb);
-#endif
-}
-
 // A running sum for the mean of many occluder values in one pass, four at a time:
 // start from ESM_SUM_EMPTY, add with esm_sum_add4, end with esm_sum_mean. In log space
 // x is the largest value added so far and y the sum of exp(value - x), rescaled when x

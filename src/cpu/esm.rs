@@ -22,26 +22,6 @@ pub fn esm_encode(depth: f32, exponent: f32, log_space: bool) -> f32 {
     }
 }
 
-/// Mean of four occluder values.
-pub fn esm_mean4(v: Vec4, log_space: bool) -> f32 {
-    if log_space {
-        let m = v.max_element();
-        m + ((v - m).exp().dot(Vec4::splat(0.25))).ln()
-    } else {
-        v.dot(Vec4::splat(0.25))
-    }
-}
-
-/// Mean of `na` values with mean `a` and `nb` values with mean `b`.
-pub fn esm_merge(a: f32, na: f32, b: f32, nb: f32, log_space: bool) -> f32 {
-    if log_space {
-        let m = a.max(b);
-        m + ((na * (a - m).exp() + nb * (b - m).exp()) / (na + nb)).ln()
-    } else {
-        (na * a + nb * b) / (na + nb)
-    }
-}
-
 /// The empty running sum of `volfog::esm` (`ESM_SUM_EMPTY`): x the largest value added
 /// (log space), y the sum.
 pub const ESM_SUM_EMPTY: Vec2 = Vec2::new(-1.0e30, 0.0);
@@ -101,8 +81,8 @@ impl Layer {
     }
 }
 
-/// The downsample pass: each output texel is the mean of the encoded 4x4 block
-/// (as the four gathers compute it).
+/// The downsample pass: each output texel is the mean of the encoded 4x4 block, its
+/// four gathers added to the running sum in the pass's order.
 pub fn downsample(depth: &Layer, exponent: f32, log_space: bool) -> Layer {
     let (w, h) = (depth.width / 4, depth.height / 4);
     let mut texels = Vec::with_capacity((w * h) as usize);
@@ -116,14 +96,14 @@ pub fn downsample(depth: &Layer, exponent: f32, log_space: bool) -> Layer {
                     depth.at(bx + 1, by),
                     depth.at(bx, by),
                 );
-                esm_mean4(
-                    Vec4::from_array(v.to_array().map(|d| esm_encode(d, exponent, log_space))),
-                    log_space,
-                )
+                Vec4::from_array(v.to_array().map(|d| esm_encode(d, exponent, log_space)))
             };
-            let top = esm_merge(quad(0, 0), 4.0, quad(2, 0), 4.0, log_space);
-            let bottom = esm_merge(quad(0, 2), 4.0, quad(2, 2), 4.0, log_space);
-            texels.push(esm_merge(top, 8.0, bottom, 8.0, log_space));
+            let sum = [(0, 0), (2, 0), (0, 2), (2, 2)]
+                .into_iter()
+                .fold(ESM_SUM_EMPTY, |sum, (ox, oy)| {
+                    esm_sum_add4(sum, quad(ox, oy), Vec4::ONE, log_space)
+                });
+            texels.push(esm_sum_mean(sum, 16.0, log_space));
         }
     }
     Layer {
