@@ -241,19 +241,23 @@ mod tests {
                         let ray: DVec3 = p.truncate() / p.w;
                         let view = ray * (depth / ray.z.abs());
                         let want = clip_from_world * (world_from_view_d * view.extend(1.0));
-                        let t32 = (t as f32).max(0.0);
-                        let got = column[0] * slice_depth(t32, near, far, curve) + column[1];
+                        let got = column[0] * slice_depth(t as f32, near, far, curve) + column[1];
                         let error = (got.as_dvec4() - want).length() / want.length();
                         worst_clip = worst_clip.max(error);
                         if let Some(uvw) = history_slice_uvw(&froxels, column, z, 1, 1) {
-                            let want_uv = DVec3::new(
+                            // The slice coordinate of the history's view depth.
+                            let s = (want.w - n).max(0.0) / (f - n);
+                            let want_w = if c == 0.0 {
+                                s
+                            } else {
+                                (1.0 + s * (c.exp() - 1.0)).ln() / c
+                            };
+                            let want_uvw = DVec3::new(
                                 want.x / want.w * 0.5 + 0.5,
                                 0.5 - want.y / want.w * 0.5,
-                                0.0,
+                                want_w,
                             );
-                            let e = (uvw.as_dvec3().truncate() - want_uv.truncate())
-                                .abs()
-                                .max_element();
+                            let e = (uvw.as_dvec3() - want_uvw).abs().max_element();
                             worst_uvw = worst_uvw.max(e);
                             usable += 1;
                         }
