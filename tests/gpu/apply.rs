@@ -289,7 +289,6 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
             continue;
         }
         worst_f64 = worst_f64.max(relative(depth as f64, (p.z / p.w).abs()));
-        worst_coord = worst_coord.max((got[2 * i + 1] - coord).abs().max_element());
     }
     // The CPU mirror evaluates the same f32 expressions: 1e-6 relative. Against f64,
     // f32 rounding of the inverse projection near the far end of a standard depth
