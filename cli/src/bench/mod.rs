@@ -7,7 +7,8 @@
 //! 3. the froxel pipeline (inject + temporal + scan + 1080p apply) against a per-pixel
 //!    raymarch of the same scene with 64 samples per pixel (`raymarch.wgsl`);
 //! 4. the froxel pipeline (without apply) behind a 1280x720 camera against a 3840x2160
-//!    camera: the volume does not depend on the screen;
+//!    camera, three pairs per frame in alternating order: the volume does not depend on
+//!    the screen;
 //! 5. the cheap path at 1080p: depth culling by the scene's depth buffer, checkerboard
 //!    amortisation and the noise texture, each alone and all three, per pass, with the
 //!    inject against a plain write of the volume (its floor) and the whole pipeline
@@ -84,6 +85,9 @@ const SCREEN: (u32, u32) = (1920, 1080);
 /// The two cameras of the screen-independence comparison.
 const SMALL_SCREEN: (u32, u32) = (1280, 720);
 const LARGE_SCREEN: (u32, u32) = (3840, 2160);
+/// Pairs of the two cameras run in each measured frame: each pair is one sample of the
+/// 4K / 720p ratio, so 7 frames give 21 paired samples.
+const SCREEN_PAIRS: u32 = 3;
 
 /// Target: scan / copy.
 const TARGET_SCAN: f64 = 1.25;

@@ -131,7 +131,8 @@ pub struct Ratios {
 pub struct PairedRatio {
     /// What is divided by what, per frame.
     pub definition: &'static str,
-    /// The ratio of each measured frame, in frame order.
+    /// The ratio of each paired sample (of each measured frame, or of each pair of
+    /// cameras for the 4K / 720p ratio), in the order they ran.
     pub samples: Vec<f64>,
     /// Their median.
     pub median: f64,
@@ -432,7 +433,7 @@ pub(super) fn summarize(
         .collect();
     let median = |k: &str| passes[k].median_ms;
     let screens = PairedRatio::new(
-        "(inject + temporal + scan) behind a 3840x2160 / a 1280x720 camera, per frame",
+        "(inject + temporal + scan) behind a 3840x2160 / a 1280x720 camera, per pair of cameras (three pairs per frame)",
         &series("froxel_4k", clock),
         &series("froxel_720p", clock),
     );

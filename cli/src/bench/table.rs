@@ -100,7 +100,7 @@ pub fn table(report: &Report) -> String {
             .as_ref()
             .map(|f| {
                 format!(
-                    "  (median of {} frames, {:.3}x to {:.3}x)",
+                    "  (median of {} paired samples, {:.3}x to {:.3}x)",
                     f.samples.len(),
                     f.min,
                     f.max

@@ -373,14 +373,18 @@ impl Workloads {
         } else {
             None
         };
-        // Alternate the order of the two cameras so that drift cancels.
-        let (ts, tl) = if f.is_multiple_of(2) {
-            let ts = self.small.frame(gpu)?;
-            (ts, self.large.frame(gpu)?)
-        } else {
-            let tl = self.large.frame(gpu)?;
-            (self.small.frame(gpu)?, tl)
-        };
+        // The two cameras, SCREEN_PAIRS times, the order alternating from pair to pair
+        // and frame to frame so that drift cancels.
+        let mut screens = Vec::new();
+        for pair in 0..SCREEN_PAIRS {
+            screens.push(if (f + pair).is_multiple_of(2) {
+                let ts = self.small.frame(gpu)?;
+                (ts, self.large.frame(gpu)?)
+            } else {
+                let tl = self.large.frame(gpu)?;
+                (self.small.frame(gpu)?, tl)
+            });
+        }
         let both = |pick: &dyn Fn(&PassTimings) -> f64, t: &(PassTimings, PassTimings)| Sample {
             gpu: pick(&t.0),
             cpu: pick(&t.1),
@@ -423,14 +427,18 @@ impl Workloads {
             ("apply_part_lookup", part_t[2]),
             ("apply_part_untaken", part_t[3]),
             ("froxel_1080p", both(&|p| froxel_cost(p) + p.apply, &main)),
-            ("froxel_720p", both(&froxel_cost, &ts)),
-            ("froxel_4k", both(&froxel_cost, &tl)),
-            ("apply_720p", both(&|p| p.apply, &ts)),
-            ("apply_4k", both(&|p| p.apply, &tl)),
             ("sky_solve", sky_t),
             ("cloud_shadow_1080p", shadow_t),
             ("distance_clouds_1080p", clouds_t),
         ];
+        for (ts, tl) in &screens {
+            samples.extend([
+                ("froxel_720p", both(&froxel_cost, ts)),
+                ("froxel_4k", both(&froxel_cost, tl)),
+                ("apply_720p", both(&|p| p.apply, ts)),
+                ("apply_4k", both(&|p| p.apply, tl)),
+            ]);
+        }
         samples.extend([
             ("epipolar_tree", shafts.tree),
             ("epipolar_march_tree", shafts.march_tree),
