@@ -212,7 +212,7 @@ fn lit_error(got: f32, want: f64) -> f64 {
 /// rounding of the f32 optical depths (about 1e-6) times F is the error of exp(-F).
 /// Under a low light the rounding of mu = dot(towards, up) in f32 adds its own: a few
 /// ulps of a unit product (5e-7 here) over mu, relative, in tau_light, so F 5e-7 / mu
-/// more (2.2e-4 at F = 23.5 with the light 2.5 degrees up).
+/// more (2.7e-4 at F = 23.5 with the light 2.5 degrees up).
 fn lit_bound(f_min: f64, mu: f64) -> f64 {
     1e-4 * (f_min / 20.0).max(1.0) + f_min * 5e-7 / mu
 }
