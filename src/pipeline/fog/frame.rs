@@ -40,7 +40,7 @@ impl VolumetricFog {
             queue.write_buffer(&b.lights, 0, &uniforms::to_storage_bytes(lights));
         }
         if let (Some(local), Some(plan)) = (self.local_shadows.as_mut(), &plan) {
-            local.write(queue, plan);
+            local.write(queue, &self.esm, plan);
         }
         if !inputs.local_volumes.is_empty() {
             queue.write_buffer(

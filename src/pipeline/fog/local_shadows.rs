@@ -2,6 +2,9 @@
 //! depth maps and cookies, the local-light ESM atlas they are filtered into, and each
 //! frame's [`ShadowedLight`]s turned into `LightProjection`s within the budget.
 
+use std::ops::Range;
+
+use super::atlas_layers::{LayerRequest, assign_layers, layer_runs};
 use super::config::LocalShadowConfig;
 use super::resources::{check_filterable, check_texture_binding, mismatch};
 use super::{
@@ -31,6 +34,9 @@ use crate::uniforms::{
 /// let camera = LightCamera::spot(&lamp, 0.1).unwrap();
 /// let shadowed = ShadowedLight::new(0, camera).with_shadow(0).with_cookie(2);
 /// assert_eq!(shadowed.shadow, Some(0));
+/// // A later frame, its shadow map not rendered again: the atlas keeps its filtering.
+/// let cached = shadowed.with_unchanged_map();
+/// assert!(cached.map_unchanged);
 /// ```
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ShadowedLight {
@@ -46,6 +52,14 @@ pub struct ShadowedLight {
     /// Receivers are tested this much nearer the light (m), see
     /// [`limits::LOCAL_SHADOW_BIAS`].
     pub bias: f32,
+    /// Its shadow map holds what it held the last time a frame filtered it into the
+    /// atlas (a static light whose map is rendered once, or rendered every few
+    /// frames): the atlas keeps that filtering if its layers still hold it (same map,
+    /// camera depth terms, range and exponent, not taken by another light since), and
+    /// the frame filters only the other lights' maps. Setting new depth maps
+    /// ([`VolumetricFog::set_spot_shadow_maps`], [`VolumetricFog::set_point_shadow_maps`])
+    /// forgets every filtering. `false` (the default): filtered every frame.
+    pub map_unchanged: bool,
 }
 
 impl ShadowedLight {
@@ -57,6 +71,7 @@ impl ShadowedLight {
             shadow: None,
             cookie: None,
             bias: 0.0,
+            map_unchanged: false,
         }
     }
 
@@ -75,6 +90,15 @@ impl ShadowedLight {
             ..self
         }
     }
+
+    /// With its shadow map unchanged since a frame last filtered it (see
+    /// [`ShadowedLight::map_unchanged`]).
+    pub fn with_unchanged_map(self) -> Self {
+        Self {
+            map_unchanged: true,
+            ..self
+        }
+    }
 }
 
 /// What the prepared frame's shadowed lights got (see [`VolumetricFog::local_shadow_stats`]).
@@ -88,6 +112,9 @@ pub struct LocalShadowStats {
     pub unshadowed: u32,
     /// Atlas layers filled this frame.
     pub layers: u32,
+    /// Atlas layers of lights with [`ShadowedLight::map_unchanged`] kept from an
+    /// earlier frame's filtering.
+    pub kept: u32,
 }
 
 /// A frame's shadowed lights, checked and within the budget.
@@ -96,6 +123,7 @@ pub(super) struct LocalShadowPlan {
     /// The frame's lights with their projection indices.
     pub(super) lights: Vec<FogLight>,
     projections: Vec<LightProjection>,
+    /// The atlas maps the frame fills (the kept ones left out).
     sources: Vec<LocalShadowSource>,
     stats: LocalShadowStats,
 }
@@ -118,6 +146,12 @@ pub(super) struct LocalShadows {
     sources: wgpu::Buffer,
     projections: wgpu::Buffer,
     groups: Option<AtlasGroups>,
+    /// What each atlas layer holds: the source it was last filled from (`None`:
+    /// nothing since the depth maps were set).
+    held: Vec<Option<LocalShadowSource>>,
+    /// The runs of consecutive layers the prepared frame fills, blurred a run at a time.
+    runs: Vec<Range<u32>>,
+    device: wgpu::Device,
     stats: LocalShadowStats,
     /// Whether a light of the prepared frame has a shadow or a cookie.
     projects: bool,
@@ -127,7 +161,11 @@ pub(super) struct LocalShadows {
 #[derive(Debug)]
 struct AtlasGroups {
     downsample: wgpu::BindGroup,
+    /// The blur of layers from 0 (x: atlas to scratch, y: back).
     blur: [wgpu::BindGroup; 2],
+    /// The blur of runs that start past layer 0, made as frames need them: views of
+    /// the run's layers alone.
+    runs: Vec<(Range<u32>, [wgpu::BindGroup; 2])>,
 }
 
 fn small_texture(device: &wgpu::Device, label: &str, format: wgpu::TextureFormat) -> wgpu::Texture {
@@ -182,6 +220,9 @@ impl LocalShadows {
             sources: storage_buffer(device, "volfog local shadow sources", sources.len()),
             projections: storage_buffer(device, "volfog light projections", projections.len()),
             groups: None,
+            held: vec![None; local.layers() as usize],
+            runs: Vec::new(),
+            device: device.clone(),
             stats: LocalShadowStats::default(),
             projects: false,
         }))
@@ -231,7 +272,10 @@ impl LocalShadows {
                 esm.blur_bind_group(device, &atlas_view, &scratch_view),
                 esm.blur_bind_group(device, &scratch_view, &atlas_view),
             ],
+            runs: Vec::new(),
         });
+        // New depth maps: no layer holds their filtering yet.
+        self.held.fill(None);
     }
 
     /// Checks a depth array of the lights' shadow maps: square, a whole multiple of the
@@ -297,7 +341,8 @@ impl LocalShadows {
 
     /// Checks the frame's shadowed lights and turns them into projections within the
     /// budget: the lights with their projection indices, the projections and the atlas
-    /// maps to fill. Writes nothing.
+    /// maps to fill (those of lights with unchanged maps that the atlas still holds are
+    /// kept). Writes nothing.
     pub(super) fn plan(
         &self,
         lights: &[FogLight],
@@ -310,8 +355,9 @@ impl LocalShadows {
                 ..*l
             })
             .collect();
-        let mut projections = Vec::with_capacity(shadowed.len());
-        let mut sources = Vec::new();
+        // Each shadowed light with its cookie and its request for atlas layers.
+        let mut entries = Vec::with_capacity(shadowed.len());
+        let mut requests = Vec::new();
         let mut stats = LocalShadowStats::default();
         let (mut spots, mut points) = (0, 0);
         for s in shadowed {
@@ -359,7 +405,7 @@ impl LocalShadows {
                     layer
                 }
             };
-            let mut layer = LOCAL_SHADOW_NONE;
+            let mut request = None;
             if let Some(map) = s.shadow {
                 let (maps, per_map, what) = if point {
                     (
@@ -389,19 +435,20 @@ impl LocalShadows {
                     spots < self.config.spot_shadows
                 };
                 if granted {
-                    // Layers are handed out from 0 up, so the blur covers exactly the
-                    // layers written this frame.
-                    layer = sources.len() as u32;
-                    for face in 0..per_map {
-                        sources.push(LocalShadowSource {
-                            depth_terms,
-                            depth_range: light.range,
-                            exponent: self.config.exponent,
-                            source_layer: map * per_map + face,
-                            atlas_layer: layer + face,
-                            source: u32::from(point),
-                        });
-                    }
+                    request = Some(requests.len());
+                    requests.push(LayerRequest {
+                        sources: (0..per_map)
+                            .map(|face| LocalShadowSource {
+                                depth_terms,
+                                depth_range: light.range,
+                                exponent: self.config.exponent,
+                                source_layer: map * per_map + face,
+                                atlas_layer: 0,
+                                source: u32::from(point),
+                            })
+                            .collect(),
+                        unchanged: s.map_unchanged,
+                    });
                     if point {
                         points += 1;
                     } else {
@@ -411,16 +458,40 @@ impl LocalShadows {
                     stats.unshadowed += 1;
                 }
             }
-            out[s.light as usize].projection = projections.len() as u32;
-            projections.push(LightProjection::new(
-                light,
-                &s.camera,
-                layer,
-                cookie,
-                self.config.exponent,
-                s.bias,
-            )?);
+            out[s.light as usize].projection = entries.len() as u32;
+            entries.push((s, light, cookie, request));
         }
+        let grants = assign_layers(&self.held, &requests);
+        let mut sources = Vec::new();
+        for (r, g) in requests.iter().zip(&grants) {
+            if !g.fill {
+                stats.kept += r.sources.len() as u32;
+                continue;
+            }
+            sources.extend(
+                r.sources
+                    .iter()
+                    .zip(g.first..)
+                    .map(|(s, layer)| LocalShadowSource {
+                        atlas_layer: layer,
+                        ..*s
+                    }),
+            );
+        }
+        let projections = entries
+            .iter()
+            .map(|(s, light, cookie, request)| {
+                let layer = request.map_or(LOCAL_SHADOW_NONE, |r| grants[r].first);
+                LightProjection::new(
+                    light,
+                    &s.camera,
+                    layer,
+                    *cookie,
+                    self.config.exponent,
+                    s.bias,
+                )
+            })
+            .collect::<Result<Vec<_>, _>>()?;
         stats.spot_shadows = spots;
         stats.point_shadows = points;
         stats.layers = sources.len() as u32;
@@ -432,8 +503,9 @@ impl LocalShadows {
         })
     }
 
-    /// Uploads a frame's plan (its projections and atlas maps).
-    pub(super) fn write(&mut self, queue: &wgpu::Queue, plan: &LocalShadowPlan) {
+    /// Uploads a frame's plan (its projections and atlas maps); from here on the
+    /// atlas counts as holding the maps the frame fills.
+    pub(super) fn write(&mut self, queue: &wgpu::Queue, esm: &EsmPasses, plan: &LocalShadowPlan) {
         if !plan.projections.is_empty() {
             let bytes = uniforms::to_storage_bytes(&plan.projections);
             queue.write_buffer(&self.projections, 0, &bytes);
@@ -441,6 +513,23 @@ impl LocalShadows {
         if !plan.sources.is_empty() {
             let bytes = uniforms::to_storage_bytes(&plan.sources);
             queue.write_buffer(&self.sources, 0, &bytes);
+        }
+        for s in &plan.sources {
+            self.held[s.atlas_layer as usize] = Some(*s);
+        }
+        self.runs = layer_runs(plan.sources.iter().map(|s| s.atlas_layer));
+        if let (Some(groups), Some(atlas)) = (self.groups.as_mut(), &self.atlas) {
+            for run in self.runs.iter().filter(|r| r.start > 0) {
+                if groups.runs.iter().any(|(r, _)| r == run) {
+                    continue;
+                }
+                let (atlas, scratch) = (layers_view(&atlas[0], run), layers_view(&atlas[1], run));
+                let blur = [
+                    esm.blur_bind_group(&self.device, &atlas, &scratch),
+                    esm.blur_bind_group(&self.device, &scratch, &atlas),
+                ];
+                groups.runs.push((run.clone(), blur));
+            }
         }
         self.stats = plan.stats;
         self.projects = plan
@@ -459,8 +548,16 @@ impl LocalShadows {
         }
         let size = self.config.resolution;
         self.pass.encode(compute, &groups.downsample, size, layers);
-        for (axis, group) in groups.blur.iter().enumerate() {
-            esm.encode_blur(compute, group, axis as u32, size, layers);
+        for axis in 0..2 {
+            for run in &self.runs {
+                let blur = if run.start == 0 {
+                    &groups.blur
+                } else {
+                    let made = groups.runs.iter().find(|(r, _)| r == run);
+                    &made.expect("made by write").1
+                };
+                esm.encode_blur(compute, &blur[axis], axis as u32, size, run.len() as u32);
+            }
         }
     }
 
@@ -497,6 +594,16 @@ impl LocalShadows {
             self.cookies.as_ref(),
         ]
     }
+}
+
+/// A 2D-array view of `layers` of an atlas array.
+fn layers_view(texture: &wgpu::Texture, layers: &Range<u32>) -> wgpu::TextureView {
+    texture.create_view(&wgpu::TextureViewDescriptor {
+        dimension: Some(wgpu::TextureViewDimension::D2Array),
+        base_array_layer: layers.start,
+        array_layer_count: Some(layers.len() as u32),
+        ..Default::default()
+    })
 }
 
 fn local_shadows_off() -> FogError {

@@ -38,6 +38,7 @@
 //!
 //! [`ApplyPipeline::depth_bind_group`]: super::apply::ApplyPipeline::depth_bind_group
 
+mod atlas_layers;
 mod buffers;
 mod cascades;
 mod composite;

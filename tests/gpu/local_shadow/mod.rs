@@ -11,6 +11,7 @@ mod atlas;
 mod budget;
 mod cookie;
 mod emission;
+mod kept;
 mod room;
 mod shapes;
 mod slot;
