@@ -1,7 +1,9 @@
 //! Shadowed point and spot lights over the bench scene: the same frame with six lights
 //! (four spot, two point) lit unshadowed and shadowed through the local-light ESM
 //! atlas, their depth maps ray cast from the scene's ground, pillars and lintels, and
-//! lit by an inject compiled without local shadows.
+//! lit by an inject compiled without local shadows; and shadowed with their maps
+//! unchanged from frame to frame (`ShadowedLight::map_unchanged`: the atlas keeps its
+//! layers).
 
 use super::*;
 use glam::Vec3;
@@ -58,6 +60,8 @@ pub(super) struct LocalLightSetup {
     pub(super) atlas_bytes: u64,
     /// What the shadowed frame's lights got.
     pub(super) stats: LocalShadowStats,
+    /// What the frame with unchanged maps got.
+    pub(super) kept_stats: LocalShadowStats,
     /// [`LocalLights::light_through_shadows`] after the measured frames.
     pub(super) light_through_shadows: f64,
 }
@@ -72,17 +76,27 @@ pub(super) struct LocalLightSamples {
     pub(super) inject_shadowed: Sample,
     /// The atlas pass (downsample and blur of the frame's layers).
     pub(super) atlas: Sample,
+    /// Inject of the six lights shadowed, their maps unchanged.
+    pub(super) inject_kept: Sample,
+    /// The atlas pass of that frame (its layers kept: nothing to fill).
+    pub(super) atlas_kept: Sample,
 }
 
-/// Three fogs of the bench's baseline configuration over the main screen: one lighting
-/// the six lights unshadowed, one shadowing them through its atlas, and one with
-/// `FogConfig::local_shadows` `None` (inject compiled without local shadows).
+/// Four fogs of the bench's baseline configuration over the main screen: one lighting
+/// the six lights unshadowed, one shadowing them through its atlas, one with
+/// `FogConfig::local_shadows` `None` (inject compiled without local shadows), and one
+/// shadowing them with their maps unchanged since its first frame.
 pub(super) struct LocalLights {
     lights: Vec<FogLight>,
     shadowed_lights: Vec<ShadowedLight>,
+    kept_lights: Vec<ShadowedLight>,
     unshadowed: Screen,
     shadowed: Screen,
     compiled_out: Screen,
+    kept: Screen,
+    /// Whether `kept`'s atlas holds the lights' maps (filled once, untimed, before its
+    /// first frame).
+    primed: bool,
     pub(super) setup: LocalLightSetup,
 }
 
@@ -129,32 +143,43 @@ impl LocalLights {
             ..config.clone()
         };
         let compiled_out = Screen::new(gpu, &without, shadow_map, depth, SCREEN)?;
-        let mut shadowed = Screen::new(gpu, config, shadow_map, depth, SCREEN)?;
-        shadowed.fog.set_spot_shadow_maps(&gpu.device, &spot_maps)?;
-        shadowed
-            .fog
-            .set_point_shadow_maps(&gpu.device, &point_maps)?;
+        let shadowed_screen = || {
+            let mut screen = Screen::new(gpu, config, shadow_map, depth, SCREEN)?;
+            screen.fog.set_spot_shadow_maps(&gpu.device, &spot_maps)?;
+            screen.fog.set_point_shadow_maps(&gpu.device, &point_maps)?;
+            Ok::<_, BenchError>(screen)
+        };
+        let shadowed = shadowed_screen()?;
+        let kept = shadowed_screen()?;
+        let kept_lights = shadowed_lights
+            .iter()
+            .map(|s| s.with_unchanged_map())
+            .collect();
         let map_bytes =
             4 * u64::from(map_size * map_size) * (spot_layers.len() + point_layers.len()) as u64;
         let atlas_bytes = shadowed.fog.memory_bytes() - unshadowed.fog.memory_bytes();
         Ok(Self {
             lights,
             shadowed_lights,
+            kept_lights,
             unshadowed,
             shadowed,
             compiled_out,
+            kept,
+            primed: false,
             setup: LocalLightSetup {
                 map_size,
                 atlas_size: local.resolution,
                 map_bytes,
                 atlas_bytes,
                 stats: LocalShadowStats::default(),
+                kept_stats: LocalShadowStats::default(),
                 light_through_shadows: f64::NAN,
             },
         })
     }
 
-    /// Frame `f` of the three fogs over the scene's `inputs` with the six lights in
+    /// Frame `f` of the four fogs over the scene's `inputs` with the six lights in
     /// place of the scene's (rotating which runs first so that drift cancels).
     pub(super) fn frame(
         &mut self,
@@ -174,18 +199,35 @@ impl LocalLights {
         self.unshadowed.fog.prepare(&gpu.queue, &unshadowed)?;
         self.shadowed.fog.prepare(&gpu.queue, &shadowed)?;
         self.compiled_out.fog.prepare(&gpu.queue, &unshadowed)?;
+        if !self.primed {
+            // The static lamps' maps were filtered in an earlier frame.
+            self.kept.fog.prepare(&gpu.queue, &shadowed)?;
+            let mut encoder = gpu.device.create_command_encoder(&Default::default());
+            self.kept
+                .fog
+                .encode_pass(&mut encoder, FogPass::LocalShadows)?;
+            submit_and_wait(gpu, encoder.finish())?;
+            self.primed = true;
+        }
+        let kept = FrameInputs {
+            shadowed_lights: &self.kept_lights,
+            ..unshadowed.clone()
+        };
+        self.kept.fog.prepare(&gpu.queue, &kept)?;
         self.setup.stats = self.shadowed.fog.local_shadow_stats();
+        self.setup.kept_stats = self.kept.fog.local_shadow_stats();
         let screens = [
             &mut self.unshadowed,
             &mut self.shadowed,
             &mut self.compiled_out,
+            &mut self.kept,
         ];
-        let mut timings = [(PassTimings::default(), PassTimings::default()); 3];
-        for k in 0..3 {
-            let which = (k + f as usize) % 3;
+        let mut timings = [(PassTimings::default(), PassTimings::default()); 4];
+        for k in 0..4 {
+            let which = (k + f as usize) % 4;
             timings[which] = screens[which].frame(gpu)?;
         }
-        let [u, s, c] = timings;
+        let [u, s, c, k] = timings;
         let both = |pick: fn(&PassTimings) -> f64, t: &(PassTimings, PassTimings)| Sample {
             gpu: pick(&t.0),
             cpu: pick(&t.1),
@@ -195,6 +237,8 @@ impl LocalLights {
             inject_compiled_out: both(|p| p.inject, &c),
             inject_shadowed: both(|p| p.inject, &s),
             atlas: both(|p| p.local_shadows, &s),
+            inject_kept: both(|p| p.inject, &k),
+            atlas_kept: both(|p| p.local_shadows, &k),
         })
     }
 

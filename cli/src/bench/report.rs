@@ -265,6 +265,10 @@ pub struct LocalShadowCost {
     /// Median (inject + atlas pass) with the lights shadowed / median inject with
     /// `local_shadows` `None`.
     pub total_shadowed_vs_compiled_out: Ratio,
+    /// Median (inject + atlas pass) with the lights shadowed and their maps unchanged
+    /// (`ShadowedLight::map_unchanged`: the atlas keeps its layers and fills none) /
+    /// median inject with them unshadowed.
+    pub total_kept_vs_unshadowed: Ratio,
     /// Median inject of the lights unshadowed / with `local_shadows` `None`: what
     /// compiling the local shadows in costs lights without a shadow.
     pub unshadowed_vs_compiled_out: f64,
@@ -279,6 +283,10 @@ pub struct LocalShadowCost {
     pub atlas_resolution: u32,
     /// Atlas layers the frame filled (one per spot light, six per point light).
     pub atlas_layers: u32,
+    /// Atlas layers the frame with unchanged maps kept (and filled: `kept_filled`).
+    pub kept_layers: u32,
+    /// Atlas layers the frame with unchanged maps filled.
+    pub kept_filled: u32,
     /// Texels per side of the lights' depth maps.
     pub depth_map_resolution: u32,
     /// Bytes of the lights' depth maps (Depth32Float; the caller's textures).
@@ -531,6 +539,11 @@ pub(super) fn summarize(
             median("local_shadowed_total") / median("local_inject_compiled_out"),
             TARGET_LOCAL_SHADOWS,
         ),
+        total_kept_vs_unshadowed: Ratio::at_most(
+            "median (inject + local shadow atlas), shadowed, maps unchanged / median inject, unshadowed",
+            median("local_kept_total") / median("local_inject_unshadowed"),
+            TARGET_LOCAL_SHADOWS,
+        ),
         unshadowed_vs_compiled_out: median("local_inject_unshadowed")
             / median("local_inject_compiled_out"),
         atlas_ms: median("local_shadow_atlas"),
@@ -538,6 +551,8 @@ pub(super) fn summarize(
         atlas_mib: to_mib(local.atlas_bytes),
         atlas_resolution: local.atlas_size,
         atlas_layers: local.stats.layers,
+        kept_layers: local.kept_stats.kept,
+        kept_filled: local.kept_stats.layers,
         depth_map_resolution: local.map_size,
         depth_map_bytes: local.map_bytes,
         spot_shadows: local.stats.spot_shadows,

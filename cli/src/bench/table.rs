@@ -44,14 +44,17 @@ pub fn table(report: &Report) -> String {
     let _ = writeln!(
         out,
         "  ++ baseline, the scene's lights replaced by {} spot + {} point lights; atlas {} layers \
-         of {}x{} from {}x{} depth maps; None: FogConfig::local_shadows None",
+         of {}x{} from {}x{} depth maps; None: FogConfig::local_shadows None; maps kept: \
+         their maps unchanged, {} layers kept and {} filled",
         l.spot_shadows,
         l.point_shadows,
         l.atlas_layers,
         l.atlas_resolution,
         l.atlas_resolution,
         l.depth_map_resolution,
-        l.depth_map_resolution
+        l.depth_map_resolution,
+        l.kept_layers,
+        l.kept_filled
     );
     let _ = writeln!(
         out,
@@ -93,6 +96,10 @@ pub fn table(report: &Report) -> String {
         (
             "(inject + atlas) / inject None",
             &l.total_shadowed_vs_compiled_out,
+        ),
+        (
+            "(inject + atlas) kept / unshadowed",
+            &l.total_kept_vs_unshadowed,
         ),
     ] {
         let spread = ratio

@@ -52,6 +52,8 @@ pub(super) const SERIES: &[(&str, &str)] = &[
     ("local_inject_shadowed", "inject, 6 lights shadowed ++"),
     ("local_shadow_atlas", "local shadow atlas ++"),
     ("local_shadowed_total", "inject + atlas, shadowed ++"),
+    ("local_inject_kept", "inject, 6 lights, maps kept ++"),
+    ("local_kept_total", "inject + atlas, maps kept ++"),
 ];
 
 /// The target ratios taken frame by frame: (key, numerator series, denominator
@@ -449,6 +451,8 @@ impl Workloads {
             ("local_inject_shadowed", local.inject_shadowed),
             ("local_shadow_atlas", local.atlas),
             ("local_shadowed_total", local.inject_shadowed + local.atlas),
+            ("local_inject_kept", local.inject_kept),
+            ("local_kept_total", local.inject_kept + local.atlas_kept),
         ]);
         samples.extend(raymarch_t.map(|r| ("raymarch_1080p", r)));
         samples.extend(shafts.reference.map(|r| ("epipolar_reference_1080p", r)));

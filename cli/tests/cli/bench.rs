@@ -209,6 +209,8 @@ fn quick_bench_writes_every_ratio_memory_and_adapter() {
         "local_inject_shadowed",
         "local_shadow_atlas",
         "local_shadowed_total",
+        "local_inject_kept",
+        "local_kept_total",
     ] {
         let median = passes[key]["median_ms"].as_f64().unwrap_or(f64::NAN);
         assert!(median.is_finite() && median > 0.0, "{key}: {median}");
@@ -232,6 +234,11 @@ fn quick_bench_writes_every_ratio_memory_and_adapter() {
         inject.is_finite() && inject > 0.5 && total > inject,
         "against local_shadows None: inject {inject}, with the atlas {total}: {local}"
     );
+    // With the maps unchanged the atlas keeps all 16 layers and fills none.
+    let kept = ratio("total_kept_vs_unshadowed");
+    assert!(kept.is_finite() && kept > 0.5, "maps kept: {kept}: {local}");
+    assert_eq!(local["kept_layers"], 4 + 6 * 2, "{local}");
+    assert_eq!(local["kept_filled"], 0, "{local}");
     let compiled_in = local["unshadowed_vs_compiled_out"]
         .as_f64()
         .unwrap_or(f64::NAN);
