@@ -91,29 +91,7 @@ pub fn depth_array_texture(
     let mut encoder = gpu.device.create_command_encoder(&Default::default());
     for (layer, values) in layers.iter().enumerate() {
         let layer = layer as u32;
-        gpu.queue.write_texture(
-            wgpu::TexelCopyTextureInfo {
-                texture: &source,
-                mip_level: 0,
-                origin: wgpu::Origin3d {
-                    x: 0,
-                    y: 0,
-                    z: layer,
-                },
-                aspect: wgpu::TextureAspect::All,
-            },
-            bytemuck::cast_slice(values),
-            wgpu::TexelCopyBufferLayout {
-                offset: 0,
-                bytes_per_row: Some(width * 4),
-                rows_per_image: Some(height),
-            },
-            wgpu::Extent3d {
-                width,
-                height,
-                depth_or_array_layers: 1,
-            },
-        );
+        write_f32_layer(gpu, &source, layer, values);
         let layer_view = |t: &wgpu::Texture| {
             t.create_view(&wgpu::TextureViewDescriptor {
                 dimension: Some(wgpu::TextureViewDimension::D2),
@@ -152,4 +130,33 @@ pub fn depth_array_texture(
     }
     gpu.queue.submit([encoder.finish()]);
     Ok(depth)
+}
+
+/// Writes one layer of a 4-byte-per-texel 2D array texture (e.g. R32Float) with
+/// `COPY_DST` usage from its texels in rows; takes effect at the next submit.
+pub fn write_f32_layer(gpu: &Gpu, texture: &wgpu::Texture, layer: u32, values: &[f32]) {
+    let (width, height) = (texture.width(), texture.height());
+    gpu.queue.write_texture(
+        wgpu::TexelCopyTextureInfo {
+            texture,
+            mip_level: 0,
+            origin: wgpu::Origin3d {
+                x: 0,
+                y: 0,
+                z: layer,
+            },
+            aspect: wgpu::TextureAspect::All,
+        },
+        bytemuck::cast_slice(values),
+        wgpu::TexelCopyBufferLayout {
+            offset: 0,
+            bytes_per_row: Some(width * 4),
+            rows_per_image: Some(height),
+        },
+        wgpu::Extent3d {
+            width,
+            height,
+            depth_or_array_layers: 1,
+        },
+    );
 }

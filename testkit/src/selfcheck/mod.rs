@@ -21,7 +21,7 @@ use volfog::uniforms::Froxels;
 use crate::gpu::{Gpu, GpuError};
 
 pub use apply::{ApplyCase, max_abs_diff, run_apply};
-pub use depth::{depth_array_texture, depth_texture};
+pub use depth::{depth_array_texture, depth_texture, write_f32_layer};
 pub use epipolar::{EpipolarCheck, epipolar_check};
 pub use esm::run_esm;
 pub use local_shadow::{LocalShadowCheck, local_shadow_check};

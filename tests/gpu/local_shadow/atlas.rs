@@ -5,27 +5,11 @@
 
 use super::*;
 
-/// Pillars and a ceiling around the lights, so every map holds near and far depths.
-fn occluders() -> Vec<Occluder> {
-    let mut o = vec![Occluder::aabb(
-        Vec3::new(-6.0, 5.0, -16.0),
-        Vec3::new(6.0, 5.3, -2.0),
-    )];
-    for k in 0..5 {
-        let x = -4.0 + 2.0 * k as f32;
-        o.push(Occluder::aabb(
-            Vec3::new(x, 0.0, -9.0 - 0.7 * k as f32),
-            Vec3::new(x + 0.5, 4.0, -8.5 - 0.7 * k as f32),
-        ));
-    }
-    o
-}
-
 #[test]
 fn atlas_and_inject_match_the_cpu_mirror() {
     use glam::camera::rh::proj::directx;
     let gpu = gpu();
-    let occluders = occluders();
+    let occluders = pillars();
     for (log_space, factor, exponent) in [
         (false, 2, 80.0),
         (true, 1, 300.0),
@@ -40,33 +24,7 @@ fn atlas_and_inject_match_the_cpu_mirror() {
         };
         let config = config(local, log_space);
         let map = local.resolution * factor;
-        let lights = [
-            FogLight::spot(
-                Vec3::new(-3.0, 4.5, -4.0),
-                Vec3::new(0.2, -0.6, -1.0).normalize(),
-                Vec3::new(30.0, 20.0, 10.0),
-                16.0,
-                0.35,
-                0.6,
-            ),
-            FogLight::spot(
-                Vec3::new(3.0, 4.5, -5.0),
-                Vec3::new(-0.3, -0.5, -1.0).normalize(),
-                Vec3::new(10.0, 20.0, 30.0),
-                14.0,
-                0.3,
-                0.5,
-            ),
-            FogLight::spot(
-                Vec3::new(0.0, 4.8, -12.0),
-                Vec3::new(0.0, -1.0, 0.1).normalize(),
-                Vec3::new(20.0, 30.0, 20.0),
-                10.0,
-                0.4,
-                0.7,
-            ),
-            FogLight::point(Vec3::new(0.5, 2.0, -11.0), Vec3::new(40.0, 30.0, 20.0), 9.0),
-        ];
+        let lights = pillar_lights();
         // The three depth conventions of the spot cameras: standard, reversed, infinite
         // reversed (Bevy's), all with the same view.
         let spot = |i: usize, kind: u32| {

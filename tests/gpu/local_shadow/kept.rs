@@ -5,22 +5,7 @@
 //! changes), and the fog equals that of a fog that filters every map afresh.
 
 use super::*;
-
-/// Pillars under a ceiling.
-fn occluders() -> Vec<Occluder> {
-    let mut o = vec![Occluder::aabb(
-        Vec3::new(-6.0, 5.0, -16.0),
-        Vec3::new(6.0, 5.3, -2.0),
-    )];
-    for k in 0..4 {
-        let x = -4.0 + 2.5 * k as f32;
-        o.push(Occluder::aabb(
-            Vec3::new(x, 0.0, -9.5),
-            Vec3::new(x + 1.2, 4.0, -8.3),
-        ));
-    }
-    o
-}
+use volfog_testkit::selfcheck::write_f32_layer;
 
 /// An R32Float depth array the test can write layer by layer.
 fn writable_maps(layers: &[Vec<f32>], size: u32) -> wgpu::Texture {
@@ -40,36 +25,9 @@ fn writable_maps(layers: &[Vec<f32>], size: u32) -> wgpu::Texture {
         view_formats: &[],
     });
     for (layer, texels) in layers.iter().enumerate() {
-        write_layer(&texture, layer as u32, texels);
+        write_f32_layer(gpu, &texture, layer as u32, texels);
     }
     texture
-}
-
-fn write_layer(texture: &wgpu::Texture, layer: u32, texels: &[f32]) {
-    let size = texture.size().width;
-    gpu().queue.write_texture(
-        wgpu::TexelCopyTextureInfo {
-            texture,
-            mip_level: 0,
-            origin: wgpu::Origin3d {
-                x: 0,
-                y: 0,
-                z: layer,
-            },
-            aspect: wgpu::TextureAspect::All,
-        },
-        bytemuck::cast_slice(texels),
-        wgpu::TexelCopyBufferLayout {
-            offset: 0,
-            bytes_per_row: Some(4 * size),
-            rows_per_image: Some(size),
-        },
-        wgpu::Extent3d {
-            width: size,
-            height: size,
-            depth_or_array_layers: 1,
-        },
-    );
 }
 
 fn stats(fog: &VolumetricFog) -> (u32, u32) {
@@ -95,31 +53,15 @@ fn unchanged_maps_keep_their_atlas_layers_and_changed_maps_are_filtered_again() 
     };
     let config = config(local, false);
     let map = 64;
-    let lights = [
-        FogLight::spot(
-            Vec3::new(-2.0, 4.5, -4.0),
-            Vec3::new(0.1, -0.6, -1.0).normalize(),
-            Vec3::new(30.0, 20.0, 10.0),
-            16.0,
-            0.35,
-            0.6,
-        ),
-        FogLight::spot(
-            Vec3::new(3.0, 4.5, -5.0),
-            Vec3::new(-0.3, -0.5, -1.0).normalize(),
-            Vec3::new(10.0, 20.0, 30.0),
-            14.0,
-            0.3,
-            0.5,
-        ),
-        FogLight::point(Vec3::new(0.5, 2.0, -11.0), Vec3::new(40.0, 30.0, 20.0), 9.0),
-    ];
+    // Two spot lights and the point light of the atlas test's scene.
+    let [a, b, _, c] = pillar_lights();
+    let lights = [a, b, c];
     let cameras = [
         LightCamera::spot(&lights[0], 0.2).unwrap(),
         LightCamera::spot(&lights[1], 0.2).unwrap(),
         LightCamera::point(&lights[2], 0.1).unwrap(),
     ];
-    let before = occluders();
+    let before = pillars();
     let mut spot_maps: Vec<Vec<f32>> = cameras[..2]
         .iter()
         .flat_map(|c| render_camera(&before, c, map))
@@ -158,13 +100,13 @@ fn unchanged_maps_keep_their_atlas_layers_and_changed_maps_are_filtered_again() 
     // Frame 3: a slab under light 1 now shades part of its cone, and its map is
     // filtered again into its layer 1 (blurred as a run of layers that starts past 0);
     // the cube and light 0 keep their layers although the order changed.
-    let mut after = occluders();
+    let mut after = pillars();
     after.push(Occluder::aabb(
         Vec3::new(1.0, 3.4, -8.0),
         Vec3::new(4.5, 3.6, -5.0),
     ));
     spot_maps[1] = render_camera(&after, &cameras[1], map).remove(0);
-    write_layer(&spots, 1, &spot_maps[1]);
+    write_f32_layer(gpu, &spots, 1, &spot_maps[1]);
     let third = [
         shadowed(2).with_unchanged_map(),
         shadowed(0).with_unchanged_map(),

@@ -56,6 +56,55 @@ impl Occluder {
     }
 }
 
+/// Pillars of staggered depths under a ceiling around `pillar_lights`, so every map
+/// holds near and far depths.
+pub(super) fn pillars() -> Vec<Occluder> {
+    let mut o = vec![Occluder::aabb(
+        Vec3::new(-6.0, 5.0, -16.0),
+        Vec3::new(6.0, 5.3, -2.0),
+    )];
+    for k in 0..5 {
+        let x = -4.0 + 2.0 * k as f32;
+        o.push(Occluder::aabb(
+            Vec3::new(x, 0.0, -9.0 - 0.7 * k as f32),
+            Vec3::new(x + 0.5, 4.0, -8.5 - 0.7 * k as f32),
+        ));
+    }
+    o
+}
+
+/// Three spot lights of different colours shining down past the `pillars` and a point
+/// light among them.
+pub(super) fn pillar_lights() -> [FogLight; 4] {
+    [
+        FogLight::spot(
+            Vec3::new(-3.0, 4.5, -4.0),
+            Vec3::new(0.2, -0.6, -1.0).normalize(),
+            Vec3::new(30.0, 20.0, 10.0),
+            16.0,
+            0.35,
+            0.6,
+        ),
+        FogLight::spot(
+            Vec3::new(3.0, 4.5, -5.0),
+            Vec3::new(-0.3, -0.5, -1.0).normalize(),
+            Vec3::new(10.0, 20.0, 30.0),
+            14.0,
+            0.3,
+            0.5,
+        ),
+        FogLight::spot(
+            Vec3::new(0.0, 4.8, -12.0),
+            Vec3::new(0.0, -1.0, 0.1).normalize(),
+            Vec3::new(20.0, 30.0, 20.0),
+            10.0,
+            0.4,
+            0.7,
+        ),
+        FogLight::point(Vec3::new(0.5, 2.0, -11.0), Vec3::new(40.0, 30.0, 20.0), 9.0),
+    ]
+}
+
 /// The nearest hit of a ray among the occluders (m along a unit `dir`), or infinity.
 pub(super) fn trace(occluders: &[Occluder], origin: Vec3, dir: Vec3) -> f32 {
     occluders
