@@ -72,6 +72,14 @@ pub enum VkError {
     /// The words are not usable SPIR-V (see [`local_size`](crate::local_size)).
     #[error("SPIR-V: {0}")]
     Spirv(String),
+    /// The device cannot report compiler statistics
+    /// (`VK_KHR_pipeline_executable_properties` or its `pipelineExecutableInfo` feature
+    /// is missing).
+    #[error(
+        "Vulkan device {0:?} does not report pipeline executable statistics \
+         (VK_KHR_pipeline_executable_properties); Mesa's RADV does: `{INSTALL_LAVAPIPE}`"
+    )]
+    NoPipelineStatistics(String),
     /// An argument cannot be passed to Vulkan (entry name with a NUL, too many workgroups, …).
     #[error("invalid argument: {0}")]
     InvalidArgument(String),

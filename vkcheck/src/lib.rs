@@ -1,6 +1,6 @@
 //! `vkcheck`: raw Vulkan (through [`ash`]) with the Khronos validation layer, for volfog's tests.
 //!
-//! Two uses:
+//! Three uses:
 //!
 //! * **Layout checks** — [`Validator::compute_pipeline`] and [`Validator::graphics_pipeline`]
 //!   build a pipeline from SPIR-V plus the descriptor set layouts the caller says it will use,
@@ -12,6 +12,11 @@
 //! * **Running compute shaders** from other compilers (Slang, glslang, naga) —
 //!   [`Validator::run_compute`] binds an input and an output storage buffer, dispatches, and
 //!   returns the output bytes so that numbers can be compared across compilers.
+//! * **A driver's compiler statistics** — [`StatsDevice`] builds the same pipelines without
+//!   the layer on a device with `VK_KHR_pipeline_executable_properties` and returns what the
+//!   driver reports per shader (for Mesa's RADV: registers, spills, occupancy, instruction
+//!   count, ACO's cycle estimates, and its IR on request). RADV's null device
+//!   (`RADV_FORCE_FAMILY=<chip>`) compiles for an AMD GPU that is not there.
 //!
 //! It is meant for lavapipe (Mesa's CPU Vulkan driver) on CI machines without a GPU, but works
 //! on any Vulkan 1.3 device (or 1.2 with `VK_KHR_dynamic_rendering`). Requirements (Debian):
@@ -46,12 +51,14 @@ mod desc;
 mod error;
 mod scratch;
 mod spirv;
+mod stats;
 mod validator;
 
 pub use ash::vk;
 pub use desc::*;
 pub use error::*;
 pub use spirv::local_size;
+pub use stats::*;
 pub use validator::*;
 
 pub(crate) use scratch::*;

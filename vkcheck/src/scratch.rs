@@ -130,8 +130,10 @@ impl<'d> Scratch<'d> {
         module: vk::ShaderModule,
         entry: &CStr,
         layout: vk::PipelineLayout,
+        flags: vk::PipelineCreateFlags,
     ) -> Result<vk::Pipeline, VkError> {
         let info = vk::ComputePipelineCreateInfo::default()
+            .flags(flags)
             .stage(
                 vk::PipelineShaderStageCreateInfo::default()
                     .stage(vk::ShaderStageFlags::COMPUTE)
@@ -160,6 +162,7 @@ impl<'d> Scratch<'d> {
         desc: &GraphicsDesc<'_>,
         stages: [(vk::ShaderModule, &CStr); 2],
         layout: vk::PipelineLayout,
+        flags: vk::PipelineCreateFlags,
     ) -> Result<vk::Pipeline, VkError> {
         let stage_infos = [vk::ShaderStageFlags::VERTEX, vk::ShaderStageFlags::FRAGMENT]
             .into_iter()
@@ -236,6 +239,7 @@ impl<'d> Scratch<'d> {
         let mut rendering =
             vk::PipelineRenderingCreateInfo::default().color_attachment_formats(&color_formats);
         let info = vk::GraphicsPipelineCreateInfo::default()
+            .flags(flags)
             .stages(&stage_infos)
             .vertex_input_state(&vertex_input)
             .input_assembly_state(&input_assembly)

@@ -278,7 +278,7 @@ impl Validator {
         let (result, messages) = self.capture(|s| {
             let module = s.shader_module(spirv)?;
             let layout = s.pipeline_layout(sets)?;
-            s.compute_pipeline(module, &entry, layout)?;
+            s.compute_pipeline(module, &entry, layout, vk::PipelineCreateFlags::empty())?;
             Ok(())
         });
         pipeline_outcome(result, messages)
@@ -304,6 +304,7 @@ impl Validator {
                 desc,
                 [(vertex, &vertex_entry), (fragment, &fragment_entry)],
                 layout,
+                vk::PipelineCreateFlags::empty(),
             )?;
             Ok(())
         });
@@ -358,7 +359,8 @@ impl Validator {
             ]];
             let module = s.shader_module(spirv)?;
             let layout = s.pipeline_layout(&sets)?;
-            let pipeline = s.compute_pipeline(module, &entry, layout)?;
+            let pipeline =
+                s.compute_pipeline(module, &entry, layout, vk::PipelineCreateFlags::empty())?;
 
             let input_buffer = s.host_buffer(input.len(), &self.memory_properties)?;
             // SAFETY: the mapping is at least input.len() bytes long (and at least 4).
