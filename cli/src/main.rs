@@ -1,11 +1,11 @@
 //! The `volfog` command line: export shaders, run the GPU self-check, render the demo,
-//! run the benchmark.
+//! run the benchmark, cost the passes on a GPU compiler.
 
 use std::path::PathBuf;
 use std::process::ExitCode;
 
 use clap::{Parser, Subcommand, ValueEnum};
-use volfog_cli::{bench, demo, truth};
+use volfog_cli::{bench, demo, gpu_cost, truth};
 use volfog_codegen::Target;
 use volfog_codegen::export::{ExportError, ExportRequest, export};
 use volfog_codegen::reflect::HlslSamplers;
@@ -14,7 +14,7 @@ use volfog_codegen::reflect::HlslSamplers;
 #[command(
     name = "volfog",
     version,
-    about = "Volumetric fog shaders: export, self-check, demo, benchmark"
+    about = "Volumetric fog shaders: export, self-check, demo, benchmark, GPU cost"
 )]
 struct Cli {
     #[command(subcommand)]
@@ -67,6 +67,14 @@ enum Command {
     Demo(demo::DemoArgs),
     /// Time every pass with GPU timestamps against its floor and a per-pixel raymarch.
     Bench(bench::BenchArgs),
+    /// Compile every pipeline with AMD's compiler (Mesa's RADV/ACO on its null device,
+    /// no GPU needed) for GCN2, RDNA2 and RDNA3: registers, spills, occupancy and cycles
+    /// per pass, and a per-pass time model on an Xbox One, an RX 6800 XT and an RX 7900
+    /// XTX.
+    GpuCost(gpu_cost::GpuCostArgs),
+    /// The worker `gpu-cost` starts per chip (reads its request on stdin).
+    #[command(hide = true)]
+    RadvWorker,
     /// Compare the froxel pipeline with Mitsuba 3 in every reference scene (needs
     /// `cargo xtask tools`).
     Truth(truth::TruthArgs),
@@ -145,6 +153,8 @@ fn main() -> ExitCode {
             }
         },
         Command::Bench(args) => bench::main(args),
+        Command::GpuCost(args) => gpu_cost::main(args),
+        Command::RadvWorker => gpu_cost::worker_main(),
         Command::Truth(args) => truth::main(&args),
         Command::Selfcheck => {
             let gpu = match volfog_testkit::Gpu::new() {

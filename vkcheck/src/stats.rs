@@ -108,6 +108,7 @@ pub struct StatsDevice {
     device: ash::Device,
     executables: ash::khr::pipeline_executable_properties::Device,
     device_name: String,
+    driver: String,
     call_lock: Mutex<()>,
 }
 
@@ -161,7 +162,7 @@ impl StatsDevice {
                 }
             })?;
         match Self::create_device(&instance, requested) {
-            Ok((device, device_name)) => {
+            Ok((device, device_name, driver)) => {
                 let executables =
                     ash::khr::pipeline_executable_properties::Device::new(&instance, &device);
                 Ok(StatsDevice {
@@ -170,6 +171,7 @@ impl StatsDevice {
                     device,
                     executables,
                     device_name,
+                    driver,
                     call_lock: Mutex::new(()),
                 })
             }
@@ -184,7 +186,7 @@ impl StatsDevice {
     fn create_device(
         instance: &ash::Instance,
         requested: Option<&str>,
-    ) -> Result<(ash::Device, String), VkError> {
+    ) -> Result<(ash::Device, String, String), VkError> {
         let physical_devices = match unsafe { instance.enumerate_physical_devices() } {
             Ok(devices) => devices,
             Err(
@@ -207,6 +209,15 @@ impl StatsDevice {
         })?;
         let physical = physical_devices[index];
         let device_name = names[index].clone();
+        let mut driver_properties = vk::PhysicalDeviceDriverProperties::default();
+        let mut properties =
+            vk::PhysicalDeviceProperties2::default().push_next(&mut driver_properties);
+        unsafe { instance.get_physical_device_properties2(physical, &mut properties) };
+        let driver = format!(
+            "{} {}",
+            fixed_str(&driver_properties.driver_name),
+            fixed_str(&driver_properties.driver_info)
+        );
         let extension = ash::khr::pipeline_executable_properties::NAME;
         let has_extension = unsafe { instance.enumerate_device_extension_properties(physical) }
             .unwrap_or_default()
@@ -251,12 +262,18 @@ impl StatsDevice {
             .push_next(&mut features);
         let device = unsafe { instance.create_device(physical, &device_info, None) }
             .map_err(vk_err("vkCreateDevice"))?;
-        Ok((device, device_name))
+        Ok((device, device_name, driver))
     }
 
-    /// Name of the chosen device, e.g. `AMD RADV BONAIRE`.
+    /// Name of the chosen device, e.g. `Null hardware (RADV BONAIRE)`.
     pub fn device_name(&self) -> String {
         self.device_name.clone()
+    }
+
+    /// The driver's name and version (`VkPhysicalDeviceDriverProperties`), e.g.
+    /// `radv Mesa 22.3.6`.
+    pub fn driver(&self) -> String {
+        self.driver.clone()
     }
 
     /// Compiles entry point `entry` of `spirv` into a compute pipeline over the

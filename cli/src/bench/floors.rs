@@ -1,5 +1,6 @@
 //! The floors the fog passes are compared with (a plain write and a plain copy of the
-//! volume, a fullscreen blit) and the apply pass cut into its stages.
+//! volume, a fullscreen blit; their shaders are `volfog_cost::floor`'s) and the apply
+//! pass cut into its stages.
 
 use super::*;
 
@@ -73,8 +74,8 @@ impl VolumePass {
         Self::new(
             gpu,
             "copy_volume",
-            include_str!("copy.wgsl"),
-            "cli/src/bench/copy.wgsl",
+            volfog_cost::floor::COPY.source,
+            volfog_cost::floor::COPY.path,
             &[
                 &source.create_view(&Default::default()),
                 &destination.create_view(&Default::default()),
@@ -90,8 +91,8 @@ impl VolumePass {
         Self::new(
             gpu,
             "write_volume",
-            include_str!("write.wgsl"),
-            "cli/src/bench/write.wgsl",
+            volfog_cost::floor::WRITE.source,
+            volfog_cost::floor::WRITE.path,
             &[&destination.create_view(&Default::default())],
             [
                 size.width.div_ceil(4),
@@ -128,8 +129,8 @@ impl BlitPass {
     ) -> Result<Self, BenchError> {
         let module = raymarch::shader_module(
             &gpu.device,
-            include_str!("blit.wgsl"),
-            "cli/src/bench/blit.wgsl",
+            volfog_cost::floor::BLIT.source,
+            volfog_cost::floor::BLIT.path,
             &[],
         )?;
         let layout = gpu

@@ -38,9 +38,9 @@ mod local_lights;
 mod passes;
 pub mod raymarch;
 mod report;
-mod scene;
+pub(crate) mod scene;
 mod table;
-mod workloads;
+pub(crate) mod workloads;
 
 use std::path::PathBuf;
 use std::process::ExitCode;

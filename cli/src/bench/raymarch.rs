@@ -7,9 +7,7 @@
 //! with naga_oil after [`volfog::shaders::add_to_composer`], so it imports the same
 //! modules as the prebuilt passes.
 
-use std::collections::HashMap;
-
-use naga_oil::compose::{Composer, NagaModuleDescriptor, ShaderDefValue};
+use naga_oil::compose::ShaderDefValue;
 use volfog::pipeline::FrameUniforms;
 use volfog::pipeline::apply::FOG_BLEND;
 use volfog::uniforms::{
@@ -20,6 +18,8 @@ use volfog::uniforms::{
 pub const RAYMARCH_STEPS: u32 = 64;
 
 const RAYMARCH_WGSL: &str = include_str!("raymarch.wgsl");
+/// The raymarch shader's path in the repository.
+pub const RAYMARCH_PATH: &str = "cli/src/bench/raymarch.wgsl";
 
 /// A bench shader failed to compose.
 #[derive(Debug, thiserror::Error)]
@@ -37,19 +37,7 @@ pub fn compose(
     file: &'static str,
     defs: &[(&str, ShaderDefValue)],
 ) -> Result<naga::Module, ShaderError> {
-    let error = |report: String| ShaderError { file, report };
-    let mut composer = Composer::default();
-    volfog::shaders::add_to_composer(&mut composer).map_err(|e| error(e.to_string()))?;
-    let shader_defs: HashMap<String, ShaderDefValue> =
-        defs.iter().map(|(k, v)| (k.to_string(), *v)).collect();
-    composer
-        .make_naga_module(NagaModuleDescriptor {
-            source,
-            file_path: file,
-            shader_defs,
-            ..Default::default()
-        })
-        .map_err(|e| error(e.emit_to_string(&composer)))
+    volfog_cost::floor::compose(source, file, defs).map_err(|report| ShaderError { file, report })
 }
 
 /// Creates a wgpu shader module from a composed bench shader.
@@ -199,12 +187,12 @@ fn unfilterable(binding: u32, dimension: wgpu::TextureViewDimension) -> wgpu::Bi
 }
 
 impl Raymarch {
-    /// Composes and compiles the pass.
-    pub fn new(device: &wgpu::Device, options: &RaymarchOptions) -> Result<Self, ShaderError> {
-        let module = shader_module(
-            device,
+    /// The pass's shader composed for `options` (entry points `raymarch_vs` and
+    /// `raymarch_fs`).
+    pub fn module(options: &RaymarchOptions) -> Result<naga::Module, ShaderError> {
+        compose(
             RAYMARCH_WGSL,
-            "cli/src/bench/raymarch.wgsl",
+            RAYMARCH_PATH,
             &[
                 ("RAYMARCH_STEPS", ShaderDefValue::UInt(options.steps)),
                 ("NOISE_OCTAVES", ShaderDefValue::UInt(options.noise_octaves)),
@@ -217,7 +205,15 @@ impl Raymarch {
                     ShaderDefValue::UInt(options.max_local_volumes.max(1)),
                 ),
             ],
-        )?;
+        )
+    }
+
+    /// Composes and compiles the pass.
+    pub fn new(device: &wgpu::Device, options: &RaymarchOptions) -> Result<Self, ShaderError> {
+        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some(RAYMARCH_PATH),
+            source: wgpu::ShaderSource::Naga(std::borrow::Cow::Owned(Self::module(options)?)),
+        });
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("bench raymarch"),
             entries: &[

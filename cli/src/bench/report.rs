@@ -569,11 +569,7 @@ pub(super) fn summarize(
         froxel_fast_fused_vs_separate: median("froxel_fast_1080p")
             / median("froxel_fast_separate_1080p"),
     };
-    let cost = super::cost::model(
-        config,
-        &super::cost::Sizes::new(config, live_fraction),
-        &median,
-    )?;
+    let cost = super::cost::model(config, &super::cost::sizes(config, live_fraction), &median)?;
     let mib = to_mib(memory_bytes);
     Ok(Report {
         adapter: gpu.info.name.clone(),

@@ -82,7 +82,7 @@ pub(super) fn froxel_cost(t: &PassTimings) -> f64 {
 /// checkerboard, the noise texture, each with the temporal pass apart; all three with
 /// the temporal blend fused into inject (the cheap path as `FogConfig::default`
 /// builds it), and all three with the temporal pass apart.
-pub(super) fn variant_configs(base: &FogConfig) -> [FogConfig; 5] {
+pub(crate) fn variant_configs(base: &FogConfig) -> [FogConfig; 5] {
     let with = |depth_cull, amortize, noise_texture, fuse_temporal| FogConfig {
         depth_cull,
         amortize,
@@ -97,6 +97,19 @@ pub(super) fn variant_configs(base: &FogConfig) -> [FogConfig; 5] {
         with(true, true, true, true),
         with(true, true, true, false),
     ]
+}
+
+/// The bench's baseline configuration: it times every pass apart, the temporal pass
+/// included (no culling, every froxel injected, procedural noise).
+pub(crate) fn base_config() -> FogConfig {
+    FogConfig {
+        timestamps: true,
+        depth_cull: false,
+        amortize: false,
+        noise_texture: false,
+        fuse_temporal: false,
+        ..FogConfig::default()
+    }
 }
 
 /// Frame counts of a run.
@@ -176,15 +189,7 @@ pub(super) struct Workloads {
 
 impl Workloads {
     pub(super) fn new(gpu: &Gpu) -> Result<Self, BenchError> {
-        // The baseline times every pass apart, the temporal pass included.
-        let config = FogConfig {
-            timestamps: true,
-            depth_cull: false,
-            amortize: false,
-            noise_texture: false,
-            fuse_temporal: false,
-            ..FogConfig::default()
-        };
+        let config = base_config();
         let scene = Scene::new();
         eprintln!("preparing the scene (shadow cascades, depth buffers, pipelines)...");
         let (cascades, layers) = scene.cascades(&config);

@@ -65,6 +65,12 @@ pub struct DemoArgs {
     pub probe: bool,
 }
 
+/// The fog configuration the demo renders with (`volfog gpu-cost` compiles its
+/// pipelines).
+pub fn fog_config(args: &DemoArgs) -> volfog::pipeline::FogConfig {
+    passes::fog_config(args, false)
+}
+
 fn parse_volume(s: &str) -> Result<UVec3, String> {
     let parts: Vec<&str> = s.split('x').collect();
     let values: Result<Vec<u32>, _> = parts.iter().map(|p| p.trim().parse::<u32>()).collect();

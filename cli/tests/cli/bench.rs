@@ -527,7 +527,7 @@ fn cost_model_counts_each_pass_textures_from_its_shader() {
         ..FogConfig::default()
     };
     let live = 0.25;
-    let model = cost::model(&config, &cost::Sizes::new(&config, live), &|_| 2.0).unwrap();
+    let model = cost::model(&config, &cost::sizes(&config, live), &|_| 2.0).unwrap();
     let volume = 160 * 90 * 128 * 8u64;
     let pass = |series: &str| {
         model

@@ -1,6 +1,8 @@
 //! The `volfog` binary: export requests (exit codes, nothing left behind), the demo
-//! through its probe output, and the benchmark's report and raymarch reference.
+//! through its probe output, the benchmark's report and raymarch reference, and the
+//! pipelines on a GPU compiler (`volfog gpu-cost`).
 
 mod bench;
 mod demo;
 mod export;
+mod gpu_cost;

@@ -26,7 +26,7 @@ const LAMP_SHADOW_FACTOR: u32 = 2;
 /// filtering allows the exponent of 200 (a leak band of 1.5 % of a cascade's depth
 /// range). The lamp's cube shadow map is filtered into a local-light atlas of 256
 /// texels per face (one shadowed point light), exponent 200 in log space as well.
-fn fog_config(args: &DemoArgs, timestamps: bool) -> FogConfig {
+pub(crate) fn fog_config(args: &DemoArgs, timestamps: bool) -> FogConfig {
     FogConfig {
         volume_size: args.volume,
         near: 0.5,

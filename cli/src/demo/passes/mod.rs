@@ -16,6 +16,7 @@ use volfog_testkit::gpu::texture_2d;
 use wgpu::util::DeviceExt;
 
 pub use fog::Demo;
+pub(crate) use fog::fog_config;
 pub use frame::{FrameSetup, PASS_COUNT, PASS_NAMES};
 use pipelines::Pipelines;
 use resources::Resources;
