@@ -3,8 +3,10 @@
 //! `volpath` integrator in single scattering as the reference renderer ([`mitsuba`]).
 
 pub mod compare;
+pub mod floor;
 pub mod mitsuba;
 pub mod report;
 pub mod scene;
 pub mod scenes;
+pub mod shadow_maps;
 pub mod volfog;

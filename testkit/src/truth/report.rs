@@ -1,6 +1,7 @@
 //! volfog against Mitsuba 3, scene by scene: the reference (two radiance renders with
 //! different seeds, for Mitsuba's own noise, and the transmittance), volfog's images at
-//! a chosen grid, and the errors between them.
+//! a chosen grid (the first frame's and the converged last frame's of a still camera,
+//! [`volfog::render`]), the grid floor ([`floor`]) and the errors between them.
 //!
 //! Errors are relative, per block of [`BLOCK`] x [`BLOCK`] pixels, of the channel mean
 //! (see [`compare::relative_error`]), over the blocks whose pixels are all away from
@@ -8,14 +9,16 @@
 //! image's mean radiance in the reference. Blocks, not pixels: a path tracer's noise
 //! falls as the square root of the samples, and at [`SPP`] samples one pixel of these
 //! scenes still carries a few percent of it, a block a quarter of that (the fog itself
-//! varies little across 4 x 4 pixels; silhouettes are masked out); in scenes with a sun and occluders the pixels whose ray crosses a
-//! shadow boundary ([`compare::penumbra_mask`], [`PENUMBRA_WIDTH`]) are reported apart
-//! from the others, since volfog's exponential shadow maps blur the boundary on purpose.
+//! varies little across 4 x 4 pixels; silhouettes are masked out). In scenes with a sun
+//! and occluders the blocks whose rays cross a boundary of the sun's shadow
+//! ([`compare::penumbra_mask`], [`PENUMBRA_WIDTH`]) are also reported apart from the
+//! others.
 
 use glam::{UVec3, Vec3};
 use serde::Serialize;
 
 use super::compare::{self, ErrorStats, channel_mean};
+use super::floor;
 use super::mitsuba::{self, MitsubaError, MitsubaOptions, NoiseEstimate};
 use super::scene::{TruthImage, TruthScene};
 use super::volfog::{self, TruthError, VolfogOptions};
@@ -235,33 +238,79 @@ fn option_stats_json<S: serde::Serializer>(
     }
 }
 
-/// One row of the report: a scene at one grid, with or without light transmittance.
+/// One row of the report: a scene at one grid under one configuration.
 #[derive(Debug, Clone, Serialize)]
 pub struct Row {
     /// The scene's name.
     pub scene: String,
+    /// What the configuration is called in the table (e.g. "default").
+    pub label: String,
     /// Froxels (x, y, slices).
     pub volume: [u32; 3],
     /// `FogConfig::light_transmittance`.
     pub light_transmittance: bool,
-    /// The errors.
-    pub errors: SceneErrors,
+    /// Frames rendered.
+    pub frames: u32,
+    /// The errors of the last frame's image.
+    pub converged: SceneErrors,
+    /// The errors of the first frame's image.
+    pub first: SceneErrors,
+    /// The change of the radiance over the last jitter cycle: the relative difference,
+    /// per compared block, between the last image and the one
+    /// [`JITTER_CYCLE`](super::volfog::JITTER_CYCLE) frames before it (`None` with
+    /// fewer frames).
+    #[serde(serialize_with = "option_stats_json")]
+    pub last_cycle: Option<ErrorStats>,
+    /// The errors of the grid floor ([`super::floor`]), when computed.
+    pub floor: Option<SceneErrors>,
 }
 
-/// Renders the scene with volfog under `options` and compares it with the reference.
-pub fn row(gpu: &Gpu, reference: &Reference, options: &VolfogOptions) -> Result<Row, ReportError> {
-    let image = volfog::render(gpu, &reference.scene, options)?;
+/// Renders the scene with volfog under `options` and compares the first and the last
+/// frame's images with the reference; `label` names the configuration. The grid floor
+/// is left out ([`floor_errors`]).
+pub fn row(
+    gpu: &Gpu,
+    reference: &Reference,
+    label: &str,
+    options: &VolfogOptions,
+) -> Result<Row, ReportError> {
+    let render = volfog::render(gpu, &reference.scene, options)?;
+    let last_cycle = render.cycle_before.as_ref().map(|before| {
+        let (w, h) = (reference.image.width, reference.image.height);
+        let mask = block_mask(&reference.mask, w, h);
+        compare::relative_error(
+            &blocks(&render.converged.radiance, w, h),
+            &blocks(&before.radiance, w, h),
+            &mask,
+            reference.floor,
+        )
+    });
     Ok(Row {
         scene: reference.scene.name.clone(),
-        volume: options.volume_size.to_array(),
-        light_transmittance: options.light_transmittance,
-        errors: reference.compare(&image),
+        label: label.to_string(),
+        volume: options.config.volume_size.to_array(),
+        light_transmittance: options.config.light_transmittance,
+        frames: render.frames,
+        converged: reference.compare(&render.converged),
+        first: reference.compare(&render.first),
+        last_cycle,
+        floor: None,
     })
+}
+
+/// The grid floor of the scene at `options`' grid ([`floor::grid_floor`]) compared
+/// with the reference like volfog's images.
+pub fn floor_errors(
+    reference: &Reference,
+    options: &VolfogOptions,
+) -> Result<SceneErrors, ReportError> {
+    let floor = floor::grid_floor(&reference.scene, options)?;
+    Ok(reference.compare(&floor.image))
 }
 
 /// The grids of the report: the default's 128 slices, half and twice as many.
 pub fn grids() -> [UVec3; 3] {
-    let d = VolfogOptions::default().volume_size;
+    let d = VolfogOptions::default().config.volume_size;
     [
         UVec3::new(d.x, d.y, d.z / 2),
         d,
@@ -269,8 +318,8 @@ pub fn grids() -> [UVec3; 3] {
     ]
 }
 
-/// The whole report: every scene at every grid of [`grids`], with and without light
-/// transmittance, and Mitsuba's noise per scene.
+/// The whole report: every scene at each grid under each named configuration, with
+/// the grid floor, and Mitsuba's noise per scene.
 #[derive(Debug, Clone, Serialize)]
 pub struct Report {
     /// The adapter volfog ran on.
@@ -283,11 +332,16 @@ pub struct Report {
     pub rows: Vec<Row>,
 }
 
-/// Runs the report over `scenes`.
+/// Runs the report over `scenes`: at each grid of `grids`, each configuration of
+/// `configurations` (a label and the options, whose grid is replaced) and the grid
+/// floor (computed once per grid, with the first configuration's light transmittance
+/// and scan step).
 pub fn report(
     gpu: &Gpu,
     scenes: &[TruthScene],
     options: &MitsubaOptions,
+    grids: &[UVec3],
+    configurations: &[(String, VolfogOptions)],
 ) -> Result<Report, ReportError> {
     let mut rows = Vec::new();
     let mut noise = Vec::new();
@@ -298,14 +352,17 @@ pub fn report(
             reference.noise.per_pixel,
             reference.block_noise,
         ));
-        for light_transmittance in [true, false] {
-            for volume_size in grids() {
-                let o = VolfogOptions {
-                    volume_size,
-                    light_transmittance,
-                    ..VolfogOptions::default()
-                };
-                rows.push(row(gpu, &reference, &o)?);
+        for &volume_size in grids {
+            let mut floor = None;
+            for (label, base) in configurations {
+                let o = base.clone().with_config(|c| c.volume_size = volume_size);
+                if floor.is_none() {
+                    floor = Some(floor_errors(&reference, &o)?);
+                }
+                rows.push(Row {
+                    floor,
+                    ..row(gpu, &reference, label, &o)?
+                });
             }
         }
     }
@@ -317,50 +374,45 @@ pub fn report(
     })
 }
 
-/// The report as a Markdown table: per scene and grid the mean / 95th-percentile
-/// relative error (per block) of the in-scattered radiance with light transmittance on and off,
-/// of the transmittance, and Mitsuba's own noise.
+/// The report as a Markdown table: per scene, grid and configuration the mean /
+/// 95th-percentile relative error (per block) of the in-scattered radiance converged
+/// (the last frame), after the first frame and of the grid floor, of the
+/// transmittance, the change over the last jitter cycle, and Mitsuba's own noise.
 pub fn markdown(report: &Report) -> String {
     use std::fmt::Write;
     let pct = |v: f32| format!("{:.1}", v * 100.0);
+    let pair = |s: &ErrorStats| format!("{} / {}", pct(s.mean), pct(s.p95));
+    let labels = report.rows.iter().any(|r| r.label != report.rows[0].label);
     let mut out = String::new();
+    let filter = if labels { " filter |" } else { "" };
     let _ = writeln!(
         out,
-        "| scene | slices | radiance, transmittance on: mean / p95 % | off: mean / p95 % | transmittance: mean / p95 % | Mitsuba noise (pixel / block) % |"
+        "| scene | slices |{filter} converged: mean / p95 % | first frame: mean / p95 % | grid floor: mean / p95 % | transmittance: mean / p95 % | last cycle's change: mean % | Mitsuba noise (pixel / block) % |"
     );
-    let _ = writeln!(out, "| --- | ---: | ---: | ---: | ---: | ---: |");
-    for on in report.rows.iter().filter(|r| r.light_transmittance) {
-        let off = report
-            .rows
-            .iter()
-            .find(|r| !r.light_transmittance && r.scene == on.scene && r.volume == on.volume);
-        let noise = report.noise.iter().find(|n| n.0 == on.scene);
-        let e = &on.errors;
-        let mut radiance = format!("{} / {}", pct(e.radiance.mean), pct(e.radiance.p95));
-        if let (Some(i), Some(o)) = (e.inside_penumbra, e.outside_penumbra) {
-            let _ = write!(
-                radiance,
-                " (outside penumbra {} / {}, inside {} / {})",
-                pct(o.mean),
-                pct(o.p95),
-                pct(i.mean),
-                pct(i.p95)
-            );
-        }
+    let rule = if labels { " --- |" } else { "" };
+    let _ = writeln!(
+        out,
+        "| --- | ---: |{rule} ---: | ---: | ---: | ---: | ---: | ---: |"
+    );
+    for r in &report.rows {
+        let noise = report.noise.iter().find(|n| n.0 == r.scene);
+        let label = if labels {
+            format!(" {} |", r.label)
+        } else {
+            String::new()
+        };
         let _ = writeln!(
             out,
-            "| {} | {} | {} | {} | {} / {} | {} |",
-            on.scene,
-            on.volume[2],
-            radiance,
-            off.map(|r| format!(
-                "{} / {}",
-                pct(r.errors.radiance.mean),
-                pct(r.errors.radiance.p95)
-            ))
-            .unwrap_or_default(),
-            pct(e.transmittance.mean),
-            pct(e.transmittance.p95),
+            "| {} | {} |{label} {} | {} | {} | {} | {} | {} |",
+            r.scene,
+            r.volume[2],
+            pair(&r.converged.radiance),
+            pair(&r.first.radiance),
+            r.floor.map(|f| pair(&f.radiance)).unwrap_or_default(),
+            pair(&r.converged.transmittance),
+            r.last_cycle
+                .map(|c| format!("{:.2}", c.mean * 100.0))
+                .unwrap_or_default(),
             noise
                 .map(|n| format!("{} / {}", pct(n.1), pct(n.2)))
                 .unwrap_or_default(),

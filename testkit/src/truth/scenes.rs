@@ -369,6 +369,66 @@ pub fn spot_light() -> TruthScene {
     finish(s)
 }
 
+/// A point light of 200 W / sr (warm) 3.5 m above the ground and 20 m ahead, just
+/// above the view's top edge, behind a pillar (1 x 1 m, 7 m high) 3 m nearer the
+/// camera and 1 m to the left: the pillar's shadow, a wedge of 18 degrees, runs from
+/// the pillar towards the camera's left, across the fog in view. Homogeneous fog 0.05
+/// / m, g 0.3; no sun.
+pub fn pillar_lamp() -> TruthScene {
+    let mut s = scene(
+        "pillar_lamp",
+        camera(Vec3::new(0.0, 4.0, 0.0), 0.0, 25.0, 80.0),
+        medium(0.05, 0.0, 0.3, 20.0),
+    );
+    let lamp = Vec3::new(2.5, 3.5, -20.0);
+    s.points = vec![TruthPoint {
+        position: lamp,
+        color: Vec3::new(200.0, 170.0, 130.0),
+    }];
+    let center = Vec3::new(lamp.x - 1.0, 0.0, lamp.z + 3.0);
+    s.occluders = vec![TruthBox {
+        min: Vec3::new(center.x - 0.5, 0.0, center.z - 0.5),
+        max: Vec3::new(center.x + 0.5, 7.0, center.z + 0.5),
+    }];
+    finish(s)
+}
+
+/// A spot light (inner 25, outer 30 degrees, 800 W / sr on its axis) 7.5 m up behind a
+/// wall on the left of the view (x in [-6.4, -6] m, 9 m high, from 2 to 40 m ahead),
+/// shining down to the right through a window in it (z in [-12, -8] m, y in [2.5, 6]
+/// m) crossed by a 0.3 m bar at mid-height: two shafts of the spot's cone, cut by the
+/// window's frame and the bar, slant across the view to the ground about 10 m ahead.
+/// The wall holds the rest of the cone. Homogeneous fog 0.05 / m, g 0.3; no sun.
+pub fn spot_window() -> TruthScene {
+    let mut s = scene(
+        "spot_window",
+        camera(Vec3::new(0.0, 4.0, 0.0), 0.0, 25.0, 80.0),
+        medium(0.05, 0.0, 0.3, 20.0),
+    );
+    s.spots = vec![TruthSpot {
+        position: Vec3::new(-11.0, 7.5, -10.0),
+        direction: Vec3::new(11.0, -7.5, 0.0).normalize(),
+        color: Vec3::new(800.0, 760.0, 680.0),
+        inner_deg: 25.0,
+        outer_deg: 30.0,
+    }];
+    let (x0, x1) = (-6.4, -6.0);
+    let wall = |y: (f32, f32), z: (f32, f32)| TruthBox {
+        min: Vec3::new(x0, y.0, z.0),
+        max: Vec3::new(x1, y.1, z.1),
+    };
+    let (window_y, window_z) = ((2.5, 6.0), (-12.0, -8.0));
+    let (bar_y, ends) = ((4.1, 4.4), (-40.0, -2.0));
+    s.occluders = vec![
+        wall((0.0, window_y.0), ends),
+        wall((window_y.1, 9.0), ends),
+        wall(window_y, (ends.0, window_z.0)),
+        wall(window_y, (window_z.1, ends.1)),
+        wall(bar_y, window_z),
+    ];
+    finish(s)
+}
+
 /// Thin fog (0.01 / m, g 0.4) in sunlight (40 degrees up, ahead and to the left) with
 /// a box volume (0.15 / m, edge 0.2) and an ellipsoid (0.1 / m, edge 0.3) standing on
 /// the ground in view.
@@ -407,6 +467,8 @@ pub fn all() -> Vec<TruthScene> {
         point_light(),
         spot_light(),
         local_volumes(),
+        pillar_lamp(),
+        spot_window(),
     ]
 }
 

@@ -1,30 +1,31 @@
-//! A [`TruthScene`] rendered by volfog's froxel pipeline: one frame of
-//! [`VolumetricFog`] (no temporal blending, no jitter, no noise) applied over the
-//! scene's depth buffer onto a black and a white target.
+//! A [`TruthScene`] rendered by volfog's froxel pipeline: a still camera for
+//! [`VolfogOptions::frames`] frames of [`VolumetricFog`] (by default jittered and
+//! blended with the reprojected history, `FogConfig`'s defaults), applied over the
+//! scene's depth buffer onto a black and a white target after the first frame, one
+//! jitter cycle before the last and after the last.
 //!
 //! What the CPU prepares, from the scene's boxes by ray casting (slab tests):
 //! - the depth buffer: for each pixel centre the camera ray's first hit, written as the
 //!   standard-z depth of the projection (1 where the ray hits nothing);
-//! - the sun's cascaded shadow map: for each texel the first hit of a ray cast along
-//!   `-sun.direction` from above every box, as the depth of the cascade's orthographic
-//!   projection (0 nearest the sun, standard z).
+//! - the sun's cascaded shadow map and the point and spot lights' depth maps
+//!   ([`super::shadow_maps`]).
 //!
 //! The apply pass blends `dst * T + L`: over black it leaves the in-scattered radiance
 //! `L`, and white minus black is the transmittance `T` from the eye to the depth
 //! buffer's surface.
 
-use glam::{Mat4, UVec3, Vec2, Vec3, Vec4};
+use glam::{Mat4, Vec2, Vec3, Vec4};
 use volfog::cpu::ambient::AmbientSh;
 use volfog::cpu::froxel::{ndc_from_uv, view_from_ndc};
 use volfog::limits::{self, InvalidValue, check};
-use volfog::pipeline::{
-    FogConfig, FogError, FrameInputs, VolumetricFog, cascade_projection, cascade_splits,
-};
+use volfog::pipeline::{FogConfig, FogError, FrameInputs, ShadowedLight, VolumetricFog};
 use volfog::uniforms::{
     DirectionalLight, FogLight, FogMedium, HeightFog, LocalVolume, ShadowCascades, VolumeShape,
 };
 
-use super::scene::{TruthBox, TruthImage, TruthScene, TruthShape};
+use super::scene::{TruthImage, TruthScene, TruthShape};
+pub use super::shadow_maps::{inside, trace};
+use super::shadow_maps::{lamp_shadows, sun_shadow};
 use crate::gpu::{Gpu, GpuError, texture_2d};
 use crate::selfcheck::{depth_array_texture, depth_texture};
 
@@ -42,11 +43,26 @@ pub const LIGHT_RADIUS: f32 = 0.01;
 
 /// A point or spot light's range is this many times the largest distance from it to
 /// the froxel volume, so volfog's range window `(1 - (d / range)^4)^2` stays above
-/// `1 - 2 / 20^4 = 1 - 1.25e-5` everywhere in view.
+/// `1 - 2 / 20^4 = 1 - 1.25e-5` everywhere in view. The range is also the depth scale
+/// of the lamps' exponential shadow maps (`LocalShadowConfig::exponent` applies to
+/// depths divided by it).
 pub const LIGHT_RANGE_FACTOR: f32 = 20.0;
 
-/// Split scheme of the cascades: 0.5 blends logarithmic and uniform splits equally.
-pub const CASCADE_LAMBDA: f32 = 0.5;
+/// Frames rendered by default: with the history weight 0.9 of `FogConfig`'s default
+/// the first frame's share of the last image is `0.9^47 = 7e-3`, and the jitter
+/// repeats every [`JITTER_CYCLE`] frames (three cycles).
+pub const CONVERGED_FRAMES: u32 = 48;
+
+/// Frames after which volfog's froxel jitter repeats
+/// (`volfog::cpu::froxel::froxel_jitter`, Halton (2, 3, 5) of `frame % 16 + 1`): the
+/// image this many frames before the last has the same jitter phase, so the change
+/// between the two is what remains of the history's convergence.
+pub const JITTER_CYCLE: u32 = 16;
+
+/// The lamps' depth maps have this many texels per side for each texel of volfog's
+/// local-light atlas (`LocalShadowConfig::resolution`), as the sun's shadow map has 4
+/// per ESM texel.
+pub const LAMP_MAP_FACTOR: u32 = 4;
 
 /// Errors of [`render`].
 #[derive(Debug, thiserror::Error)]
@@ -63,39 +79,69 @@ pub enum TruthError {
 }
 
 /// How the froxel pipeline is configured for a scene.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct VolfogOptions {
-    /// Froxels across the screen (x, y) and depth slices (z), `FogConfig::volume_size`.
-    pub volume_size: UVec3,
-    /// Attenuate the light reaching each froxel by the medium on its way
-    /// (`FogConfig::light_transmittance`): the sun's from the medium's top, point and
-    /// spot lights' along the segment to the light.
-    pub light_transmittance: bool,
-    /// ESM exponent for shadow-map depths in [0, 1] (`FogConfig::esm_exponent`, at most
-    /// 88): behind an occluder the sun's visibility falls below 5 % once the receiver
-    /// lies `3 / esm_exponent` of the cascade's depth range behind it.
-    pub esm_exponent: f32,
-    /// ESM texels per side of a cascade (`FogConfig::esm_resolution`); the shadow map
-    /// this renderer casts has 4x as many per side.
-    pub esm_resolution: u32,
-    /// Shadow cascades of the sun, 1 to 4 (`FogConfig::cascades`), between the froxel
-    /// volume's near and far planes.
-    pub cascades: u32,
+    /// The fog's configuration. The renderer takes it as it is (grid, shadow filters,
+    /// jitter, temporal blending, light transmittance, ...) except for what the scene
+    /// sets: `near` and `far` are the camera's, `max_lights` and `max_local_volumes`
+    /// at least the scene's counts. With `local_shadows` the point and spot lights get
+    /// depth maps cast from the occluders (`None`: the lamps light the fog
+    /// unshadowed).
+    pub config: FogConfig,
+    /// Frames of a still camera, >= 1 (the jitter and the history settle over them).
+    pub frames: u32,
+    /// Texels per side of the lamps' depth maps per atlas texel (1 to 16).
+    pub lamp_map_factor: u32,
+}
+
+impl VolfogOptions {
+    /// The options with `config` changed by `f` (the rest as given).
+    pub fn with_config(mut self, f: impl FnOnce(&mut FogConfig)) -> Self {
+        f(&mut self.config);
+        self
+    }
+
+    /// The blurred exponential shadow maps of the sun and the lamps at their former
+    /// default: 256 ESM texels per cascade, exponent 40, the lamps' atlas at 256
+    /// texels and exponent 80, the 11-tap blur.
+    pub fn esm_256(self) -> Self {
+        self.with_config(|c| {
+            c.esm_resolution = 256;
+            c.esm_exponent = 40.0;
+            c.esm_blur_radius = 5;
+            c.esm_log_space = false;
+            if let Some(local) = c.local_shadows.as_mut() {
+                local.resolution = 256;
+                local.exponent = 80.0;
+            }
+        })
+    }
 }
 
 impl Default for VolfogOptions {
-    /// `FogConfig`'s defaults: 160 x 90 x 128 froxels, light transmittance on,
-    /// exponent 40, 256-texel ESM, 4 cascades.
+    /// `FogConfig::default()` (160 x 90 x 128 froxels, jitter, temporal blending at
+    /// history weight 0.9, light transmittance, shadowed lamps), [`CONVERGED_FRAMES`]
+    /// frames, lamp maps [`LAMP_MAP_FACTOR`] times the atlas.
     fn default() -> Self {
-        let config = FogConfig::default();
         Self {
-            volume_size: config.volume_size,
-            light_transmittance: config.light_transmittance,
-            esm_exponent: config.esm_exponent,
-            esm_resolution: config.esm_resolution,
-            cascades: config.cascades,
+            config: FogConfig::default(),
+            frames: CONVERGED_FRAMES,
+            lamp_map_factor: LAMP_MAP_FACTOR,
         }
     }
+}
+
+/// What [`render`] makes of a scene.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct VolfogRender {
+    /// The image after the first frame.
+    pub first: TruthImage,
+    /// The image after the last frame (the converged image; the first with one frame).
+    pub converged: TruthImage,
+    /// The image [`JITTER_CYCLE`] frames before the last, if there were more frames.
+    pub cycle_before: Option<TruthImage>,
+    /// Frames rendered.
+    pub frames: u32,
 }
 
 /// The camera of a scene as volfog takes it.
@@ -189,30 +235,6 @@ fn pixel_rays<'a>(scene: &'a TruthScene, view: &'a TruthView) -> impl Iterator<I
     (0..w * h).map(move |i| view.pixel_ray(scene.resolution, i % w, i / w))
 }
 
-/// The first hit `t >= 0` (in units of `|dir|`) of the ray `origin + t dir` with the
-/// boxes (slab test); 0 when the origin lies inside one, `None` when it hits none.
-pub fn trace(origin: Vec3, dir: Vec3, boxes: &[TruthBox]) -> Option<f32> {
-    let inv = dir.recip();
-    let mut best = f32::INFINITY;
-    for b in boxes {
-        let a = (b.min - origin) * inv;
-        let c = (b.max - origin) * inv;
-        let near = a.min(c).max_element();
-        let far = a.max(c).min_element();
-        if near <= far && far >= 0.0 {
-            best = best.min(near.max(0.0));
-        }
-    }
-    best.is_finite().then_some(best)
-}
-
-/// Whether `p` lies inside one of the boxes (faces included).
-pub fn inside(p: Vec3, boxes: &[TruthBox]) -> bool {
-    boxes
-        .iter()
-        .any(|b| p.cmpge(b.min).all() && p.cmple(b.max).all())
-}
-
 /// Per pixel (row-major from the top) the distance (m) along the camera ray from the
 /// eye to its first occluder, infinity where it hits none (or the camera is
 /// degenerate).
@@ -235,46 +257,35 @@ pub fn far_distance(scene: &TruthScene, dir: Vec3) -> f32 {
     c.far / dir.dot(forward).max(1e-6)
 }
 
-/// Renders `scene` with volfog's froxel pipeline: radiance over black and
-/// transmittance per pixel (rgb; volfog's extinction is grey, so the three channels
-/// of the transmittance agree).
-///
-/// The scene maps onto volfog as follows: the medium is a [`FogMedium`] without noise
-/// or emission whose `top_height` is the scene's top; the sun a [`DirectionalLight`]
-/// (none: colour 0 and no cascades) shadowed by cascades cast from the occluders; each
-/// point light a [`FogLight::point`] and each spot a [`FogLight::spot`] of radius
-/// [`LIGHT_RADIUS`] and a range [`LIGHT_RANGE_FACTOR`] times their farthest distance
-/// to the volume; each local volume a [`LocalVolume`] box or ellipsoid. Ambient light
-/// and the far-plane tail are off. Note that volfog's spot cone falls off as a
-/// smoothstep in the cosine of the angle, not linearly in the angle.
-pub fn render(
-    gpu: &Gpu,
-    scene: &TruthScene,
-    options: &VolfogOptions,
-) -> Result<TruthImage, TruthError> {
-    let view = TruthView::new(scene)?;
-    let [width, height] = scene.resolution;
-    let camera = &scene.camera;
+/// The configuration [`render`] gives volfog for `scene`: `options.config` with the
+/// camera's near and far planes and room for the scene's lights and local volumes.
+pub fn fog_config(scene: &TruthScene, options: &VolfogOptions) -> Result<FogConfig, InvalidValue> {
+    check(
+        options.frames >= 1,
+        "VolfogOptions.frames",
+        options.frames,
+        "at least 1 frame",
+    )?;
+    limits::LOCAL_SHADOW_FACTOR.check("VolfogOptions.lamp_map_factor", options.lamp_map_factor)?;
+    let lights = (scene.points.len() + scene.spots.len()) as u32;
     let config = FogConfig {
-        volume_size: options.volume_size,
-        near: camera.near,
-        far: camera.far,
-        esm_resolution: options.esm_resolution,
-        cascades: options.cascades,
-        esm_exponent: options.esm_exponent,
-        max_lights: limits::MAX_LIGHTS,
-        max_local_volumes: (scene.volumes.len() as u32).max(1),
-        jitter: false,
-        temporal: false,
-        amortize: false,
-        local_shadows: None,
-        light_transmittance: options.light_transmittance,
-        ..FogConfig::default()
+        near: scene.camera.near,
+        far: scene.camera.far,
+        max_lights: options.config.max_lights.max(lights),
+        max_local_volumes: options
+            .config
+            .max_local_volumes
+            .max(scene.volumes.len() as u32),
+        ..options.config.clone()
     };
     config.validate()?;
+    Ok(config)
+}
 
+/// The scene's medium as volfog takes it: no noise or emission, the scene's top.
+pub fn fog_medium(scene: &TruthScene) -> FogMedium {
     let m = &scene.medium;
-    let medium = FogMedium {
+    FogMedium {
         albedo: m.albedo,
         density: m.density,
         up: Vec3::Y,
@@ -286,8 +297,12 @@ pub fn render(
         emission: Vec3::ZERO,
         top_height: m.top,
         ..FogMedium::default()
-    };
-    let sun = match &scene.sun {
+    }
+}
+
+/// The scene's sun as volfog takes it (colour 0 for none).
+pub fn fog_sun(scene: &TruthScene) -> DirectionalLight {
+    match &scene.sun {
         Some(s) => DirectionalLight {
             direction: s.direction.normalize_or_zero(),
             color: s.color,
@@ -300,9 +315,14 @@ pub fn render(
             fog_intensity: 1.0,
             ..DirectionalLight::default()
         },
-    };
-    sun.validate()?;
-    let corners = volume_corners(&view, camera.near, camera.far);
+    }
+}
+
+/// The scene's point lights, then its spot lights, as volfog takes them: radius
+/// [`LIGHT_RADIUS`], range [`LIGHT_RANGE_FACTOR`] times the farthest distance from the
+/// light to the froxel volume's corners.
+pub fn fog_lights(scene: &TruthScene, view: &TruthView) -> Vec<FogLight> {
+    let corners = volume_corners(view, scene.camera.near, scene.camera.far);
     let range = |position: Vec3| {
         let d = corners
             .iter()
@@ -310,27 +330,27 @@ pub fn render(
             .fold(0.0f32, f32::max);
         LIGHT_RANGE_FACTOR * d.max(1.0)
     };
-    let mut lights = Vec::with_capacity(scene.points.len() + scene.spots.len());
-    for p in &scene.points {
-        lights.push(FogLight {
-            radius: LIGHT_RADIUS,
-            ..FogLight::point(p.position, p.color, range(p.position))
-        });
-    }
-    for s in &scene.spots {
-        lights.push(FogLight {
-            radius: LIGHT_RADIUS,
-            ..FogLight::spot(
-                s.position,
-                s.direction,
-                s.color,
-                range(s.position),
-                s.inner_deg.to_radians(),
-                s.outer_deg.to_radians(),
-            )
-        });
-    }
-    let volumes = scene
+    let points = scene.points.iter().map(|p| FogLight {
+        radius: LIGHT_RADIUS,
+        ..FogLight::point(p.position, p.color, range(p.position))
+    });
+    let spots = scene.spots.iter().map(|s| FogLight {
+        radius: LIGHT_RADIUS,
+        ..FogLight::spot(
+            s.position,
+            s.direction,
+            s.color,
+            range(s.position),
+            s.inner_deg.to_radians(),
+            s.outer_deg.to_radians(),
+        )
+    });
+    points.chain(spots).collect()
+}
+
+/// The scene's local volumes as volfog takes them.
+pub fn fog_volumes(scene: &TruthScene) -> Result<Vec<LocalVolume>, InvalidValue> {
+    scene
         .volumes
         .iter()
         .map(|v| {
@@ -348,43 +368,144 @@ pub fn render(
                 v.edge,
             )
         })
-        .collect::<Result<Vec<_>, _>>()?;
+        .collect()
+}
+
+/// Renders `scene` with volfog's froxel pipeline for `options.frames` frames of a
+/// still camera: radiance over black and transmittance per pixel (rgb; volfog's
+/// extinction is grey, so the three channels of the transmittance agree) after the
+/// first frame, [`JITTER_CYCLE`] frames before the last and after the last.
+///
+/// The scene maps onto volfog as follows: the medium is a [`FogMedium`] without noise
+/// or emission whose `top_height` is the scene's top ([`fog_medium`]); the sun a
+/// [`DirectionalLight`] (none: colour 0 and no cascades) shadowed by cascades cast
+/// from the occluders; each point light a [`FogLight::point`] and each spot a
+/// [`FogLight::spot`] ([`fog_lights`]), with `FogConfig::local_shadows` shadowed by
+/// depth maps cast from the occluders ([`super::shadow_maps::lamp_shadows`], marked
+/// unchanged after the first frame as a static lamp's are); each local volume a
+/// [`LocalVolume`] box or ellipsoid. Ambient light and the far-plane tail are off.
+/// Note that volfog's spot cone falls off as a smoothstep in the cosine of the angle,
+/// not linearly in the angle.
+pub fn render(
+    gpu: &Gpu,
+    scene: &TruthScene,
+    options: &VolfogOptions,
+) -> Result<VolfogRender, TruthError> {
+    let view = TruthView::new(scene)?;
+    let [width, height] = scene.resolution;
+    let config = fog_config(scene, options)?;
+    let medium = fog_medium(scene);
+    let sun = fog_sun(scene);
+    sun.validate()?;
+    let lights = fog_lights(scene, &view);
+    let volumes = fog_volumes(scene)?;
     let shadow = scene
         .sun
         .as_ref()
         .map(|_| sun_shadow(&config, &view, sun.direction, &scene.occluders));
-    let inputs = FrameInputs {
+    let lamps = match config.local_shadows {
+        Some(local) if !lights.is_empty() => Some(lamp_shadows(
+            &lights,
+            &scene.occluders,
+            local.resolution * options.lamp_map_factor,
+        )?),
+        _ => None,
+    };
+    let unchanged: Vec<ShadowedLight> = lamps.as_ref().map_or(Vec::new(), |l| {
+        l.shadowed.iter().map(|s| s.with_unchanged_map()).collect()
+    });
+    let first_inputs = FrameInputs {
         medium,
         sun,
         ambient: AmbientSh::constant(Vec3::ZERO),
         lights: &lights,
         local_volumes: &volumes,
+        shadowed_lights: lamps.as_ref().map_or(&[], |l| l.shadowed.as_slice()),
         cascades: shadow.as_ref().map_or(ShadowCascades::default(), |s| s.0),
         tail: HeightFog::none(),
         ..FrameInputs::new(view.view_from_world, view.clip_from_view, 0.0)
     };
-    inputs.validate(&config)?;
+    first_inputs.validate(&config)?;
+    let later_inputs = FrameInputs {
+        shadowed_lights: &unchanged,
+        ..first_inputs.clone()
+    };
     let depths = scene_depth(scene, &view);
+    let frames = options.frames;
 
-    let images = gpu.checked(|| -> Result<[Vec<Vec4>; 2], TruthError> {
+    let images = gpu.checked(|| -> Result<_, TruthError> {
         let mut fog = VolumetricFog::new(&gpu.device, &config)?;
         if let Some((_, layers)) = &shadow {
-            let side = config.esm_resolution * 4;
+            let (side, _) = config.shadow_map_size();
             let slices: Vec<&[f32]> = layers.iter().map(Vec::as_slice).collect();
             let map = depth_array_texture(gpu, side, side, &slices)?;
             fog.set_shadow_map(&gpu.device, &map)?;
         }
+        if let Some(l) = &lamps {
+            for (layers, spot) in [(&l.spot_layers, true), (&l.point_layers, false)] {
+                if layers.is_empty() {
+                    continue;
+                }
+                let slices: Vec<&[f32]> = layers.iter().map(Vec::as_slice).collect();
+                let maps = depth_array_texture(gpu, l.size, l.size, &slices)?;
+                if spot {
+                    fog.set_spot_shadow_maps(&gpu.device, &maps)?;
+                } else {
+                    fog.set_point_shadow_maps(&gpu.device, &maps)?;
+                }
+            }
+        }
         let depth = depth_texture(gpu, width, height, &depths)?;
         fog.set_scene_depth(&gpu.device, &depth, 0)?;
-        // Temporal blending is off, so the first frame reads no history.
-        fog.prepare(&gpu.queue, &inputs)?;
-        let mut encoder = gpu.device.create_command_encoder(&Default::default());
-        fog.encode(&mut encoder)?;
-        gpu.queue.submit([encoder.finish()]);
-        apply_over(gpu, &fog, &depth, (width, height))
+        let mut first = None;
+        let mut cycle_before = None;
+        let mut last = None;
+        for frame in 0..frames {
+            let inputs = if frame == 0 {
+                &first_inputs
+            } else {
+                &later_inputs
+            };
+            fog.prepare(&gpu.queue, inputs)?;
+            let mut encoder = gpu.device.create_command_encoder(&Default::default());
+            fog.encode(&mut encoder)?;
+            gpu.queue.submit([encoder.finish()]);
+            let before_last = frames > JITTER_CYCLE && frame + 1 + JITTER_CYCLE == frames;
+            if frame != 0 && frame + 1 != frames && !before_last {
+                continue;
+            }
+            let image = image_of(
+                apply_over(gpu, &fog, &depth, (width, height))?,
+                width,
+                height,
+            );
+            if frame == 0 {
+                first = Some(image.clone());
+            }
+            if before_last {
+                cycle_before = Some(image.clone());
+            }
+            if frame + 1 == frames {
+                last = Some(image);
+            }
+        }
+        Ok((first, cycle_before, last))
     })??;
-    let [black, white] = images;
-    Ok(TruthImage {
+    let (Some(first), cycle_before, Some(converged)) = images else {
+        unreachable!("fog_config checks that at least one frame is rendered")
+    };
+    Ok(VolfogRender {
+        first,
+        converged,
+        cycle_before,
+        frames,
+    })
+}
+
+/// The radiance over black and the transmittance (white minus black) of a pair of
+/// applied targets.
+fn image_of([black, white]: [Vec<Vec4>; 2], width: u32, height: u32) -> TruthImage {
+    TruthImage {
         width,
         height,
         radiance: black.iter().map(|b| b.truncate()).collect(),
@@ -393,12 +514,12 @@ pub fn render(
             .zip(&white)
             .map(|(b, w)| (w.truncate() - b.truncate()).max(Vec3::ZERO))
             .collect(),
-    })
+    }
 }
 
 /// The eight world-space corners of the view frustum between view depths `near` and
 /// `far` (m).
-fn volume_corners(view: &TruthView, near: f32, far: f32) -> [Vec3; 8] {
+pub(crate) fn volume_corners(view: &TruthView, near: f32, far: f32) -> [Vec3; 8] {
     let mut out = [Vec3::ZERO; 8];
     for (i, corner) in out.iter_mut().enumerate() {
         let ndc = Vec2::new(
@@ -427,106 +548,6 @@ fn scene_depth(scene: &TruthScene, view: &TruthView) -> Vec<f32> {
             None => 1.0,
         })
         .collect()
-}
-
-/// The sun's cascades and their shadow-map depths (one layer per cascade, row-major
-/// from the top, `4 * esm_resolution` texels per side).
-///
-/// Cascade `i` covers the bounding sphere (centre `c`, radius `r`) of the view frustum
-/// between its split depths. Its orthographic projection spans that sphere's square
-/// footprint (2 % wider) across the sun, and along it from `r` below the centre to
-/// `r + m` above it (towards the sun): `m` is the height above the sphere of the
-/// highest occluder in the footprint, at most `0.35 r`. Occluders higher still are
-/// clamped to depth 0 (pancaking): receivers of the cascade lie at least
-/// `0.35 r / (2.35 r) = 0.15` below them in depth, where the ESM visibility is below
-/// `exp(-0.15 c)` (0.25 % at c = 40).
-fn sun_shadow(
-    config: &FogConfig,
-    view: &TruthView,
-    sun: Vec3,
-    boxes: &[TruthBox],
-) -> (ShadowCascades, Vec<Vec<f32>>) {
-    let count = config.cascades;
-    let splits = cascade_splits(count, config.near, config.far, CASCADE_LAMBDA);
-    let mut cascades = ShadowCascades {
-        splits,
-        count,
-        exponent: config.esm_exponent,
-        ..Default::default()
-    };
-    // Above every box: where the rays towards the ground start.
-    let top = boxes
-        .iter()
-        .flat_map(|b| {
-            (0..8).map(move |k| {
-                Vec3::new(
-                    if k & 1 == 0 { b.min.x } else { b.max.x },
-                    if k & 2 == 0 { b.min.y } else { b.max.y },
-                    if k & 4 == 0 { b.min.z } else { b.max.z },
-                )
-                .dot(sun)
-            })
-        })
-        .fold(f32::NEG_INFINITY, f32::max);
-    let size = config.esm_resolution * 4;
-    let mut layers = Vec::with_capacity(count as usize);
-    for i in 0..count as usize {
-        let z0 = if i == 0 { config.near } else { splits[i - 1] };
-        let corners = volume_corners(view, z0, splits[i]);
-        let center = corners.iter().copied().sum::<Vec3>() / 8.0;
-        let radius = corners
-            .iter()
-            .map(|c| c.distance(center))
-            .fold(0.0f32, f32::max)
-            .max(1e-3);
-        let half = radius * 1.02;
-        // The lateral grid of the texels does not depend on the depth range: trace
-        // first, then place the near plane.
-        let probe = cascade_projection(sun, center, half, 2.0 * radius);
-        let inv = probe.inverse();
-        let texel_world = |x: f32, y: f32| {
-            inv.project_point3(Vec3::new(
-                2.0 * x / size as f32 - 1.0,
-                1.0 - 2.0 * y / size as f32,
-                0.0,
-            ))
-        };
-        let origin = texel_world(0.5, 0.5);
-        let step_x = texel_world(1.5, 0.5) - origin;
-        let step_y = texel_world(0.5, 1.5) - origin;
-        let sphere_top = center.dot(sun) + radius;
-        let start = top.max(sphere_top) + 1.0;
-        let lift = sun * (start - origin.dot(sun));
-        // Height along the sun of each texel's first hit, NaN where there is none.
-        let hits: Vec<f32> = (0..size * size)
-            .map(|t| {
-                let p = origin + step_x * (t % size) as f32 + step_y * (t / size) as f32 + lift;
-                trace(p, -sun, boxes).map_or(f32::NAN, |t| start - t)
-            })
-            .collect();
-        let highest = hits
-            .iter()
-            .copied()
-            .filter(|h| !h.is_nan())
-            .fold(f32::NEG_INFINITY, f32::max);
-        let margin = (highest - sphere_top).clamp(0.0, 0.35 * radius);
-        let range = 2.0 * radius + margin;
-        let near = sphere_top + margin;
-        cascades.light_from_world[i] =
-            cascade_projection(sun, center + sun * (0.5 * margin), half, range);
-        layers.push(
-            hits.iter()
-                .map(|&h| {
-                    if h.is_nan() {
-                        1.0
-                    } else {
-                        ((near - h) / range).clamp(0.0, 1.0)
-                    }
-                })
-                .collect(),
-        );
-    }
-    (cascades, layers)
 }
 
 /// Applies the prepared fog over `depth` onto a black and a white target (rgba32float
@@ -599,4 +620,53 @@ fn apply_over(
         };
     }
     Ok(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::truth::scenes;
+    use volfog::cpu::froxel::froxel_jitter;
+
+    /// The jitter repeats after JITTER_CYCLE frames and not before.
+    #[test]
+    fn jitter_cycle_is_the_period_of_the_froxel_jitter() {
+        for frame in 0..3 * JITTER_CYCLE {
+            assert_eq!(
+                froxel_jitter(frame),
+                froxel_jitter(frame + JITTER_CYCLE),
+                "{frame}"
+            );
+        }
+        for period in 1..JITTER_CYCLE {
+            assert!(
+                (0..JITTER_CYCLE).any(|f| froxel_jitter(f) != froxel_jitter(f + period)),
+                "the jitter repeats after {period} frames"
+            );
+        }
+    }
+
+    #[test]
+    fn bad_options_name_their_field() {
+        let scene = scenes::point_light();
+        let field = |o: VolfogOptions| fog_config(&scene, &o).unwrap_err().field;
+        let frames = VolfogOptions {
+            frames: 0,
+            ..VolfogOptions::default()
+        };
+        assert_eq!(field(frames), "VolfogOptions.frames");
+        let factor = VolfogOptions {
+            lamp_map_factor: 17,
+            ..VolfogOptions::default()
+        };
+        assert_eq!(field(factor), "VolfogOptions.lamp_map_factor");
+        let grid = VolfogOptions::default().with_config(|c| c.volume_size.z = 0);
+        assert_eq!(field(grid), "FogConfig.volume_size");
+        // The scene's camera sets near and far whatever the configuration says.
+        let config = fog_config(&scene, &VolfogOptions::default()).unwrap();
+        assert_eq!(
+            (config.near, config.far),
+            (scene.camera.near, scene.camera.far)
+        );
+    }
 }
