@@ -332,3 +332,85 @@ fn loops_counted_by_trip_count_match_aco_on_the_same_work_unrolled() {
         report.join("\n")
     );
 }
+
+/// `volfog gpu-cost` on one chip: the bench scene's frame on the Xbox One model at
+/// Wronski's grid. Every loop its passes leave in ACO's code has a trip count (a
+/// shader change that adds or renames one fails here with the loop's label), each
+/// pass's estimate is the larger of its ALU and memory times, the frame's total their
+/// sum, and AC4's figures stand beside the passes that do their work.
+#[test]
+fn gpu_cost_models_the_bench_frame_on_the_xbox_one() {
+    let args = volfog_cli::gpu_cost::GpuCostArgs {
+        chips: vec!["bonaire".to_string()],
+        out: PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("gpu-cost.json"),
+        json: false,
+    };
+    let report = volfog_cli::gpu_cost::run(&args, &worker()).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(report.chips.len(), 1);
+    assert!(
+        report.chips[0].1.contains("RADV BONAIRE"),
+        "{:?}",
+        report.chips
+    );
+    assert!(report.pipelines.iter().all(|p| p.stats.len() == 1));
+    assert_eq!(report.frames.len(), 1);
+    let frame = &report.frames[0];
+    assert_eq!(frame.gpu.name, "Xbox One");
+    assert_eq!(frame.grid, [160, 90, 64]);
+    let mut total = 0.0;
+    for p in frame
+        .passes
+        .iter()
+        .chain([&frame.raymarch])
+        .chain(&frame.floors)
+    {
+        let e = &p.estimate;
+        assert!(
+            e.ms > 0.0 && e.ms == e.alu_ms.max(e.memory_ms),
+            "{}: {e:?}",
+            p.pass.name
+        );
+    }
+    for p in &frame.passes {
+        total += p.estimate.ms;
+    }
+    assert!((frame.total_ms - total).abs() < 1e-12);
+    let rows: Vec<&str> = frame.ac4.iter().map(|r| r.name).collect();
+    assert_eq!(
+        rows,
+        [
+            "ESM downsample",
+            "ESM blur",
+            "inject",
+            "scan",
+            "apply",
+            "total"
+        ]
+    );
+    for name in ["inject", "scan", "apply", "total"] {
+        assert!(
+            frame
+                .ac4
+                .iter()
+                .any(|r| r.name == name && r.model_ms.is_some()),
+            "{name}: {:?}",
+            frame.ac4
+        );
+    }
+    // The raymarch runs 64 steps per pixel over every light.
+    assert!(
+        frame
+            .raymarch
+            .corrected
+            .loops
+            .iter()
+            .any(|l| l.trips == 64.0),
+        "{:?}",
+        frame.raymarch.corrected.loops
+    );
+    let text = volfog_cli::gpu_cost::table(&report);
+    assert!(
+        text.contains("## Xbox One") && text.contains("AC4"),
+        "{text}"
+    );
+}
