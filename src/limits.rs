@@ -253,6 +253,12 @@ pub const POINT_SHADOWS: Range<u32> = Range::new(0, MAX_POINT_SHADOWS, "shadowed
 /// Shadow-map texels per atlas texel along each axis (the shadow map is this many
 /// times the atlas resolution).
 pub const LOCAL_SHADOW_FACTOR: Range<u32> = Range::new(1, 16, "shadow-map texels per atlas texel");
+/// Shadow taps per froxel per frame of the compare filter
+/// ([`ShadowFilter::Compare`](crate::options::ShadowFilter::Compare)).
+pub const SHADOW_TAPS: Range<u32> = Range::new(1, MAX_SHADOW_TAPS / 4, "taps");
+/// The tap offsets a frame holds ([`ShadowTaps`](crate::uniforms::ShadowTaps)): the most
+/// taps a froxel without history takes (4 x [`SHADOW_TAPS`]).
+pub const MAX_SHADOW_TAPS: u32 = 16;
 /// Depth bias of a local light's shadow (m).
 pub const LOCAL_SHADOW_BIAS: Range<f32> = Range::new(0.0, 1.0e3, "m");
 

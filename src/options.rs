@@ -88,6 +88,41 @@ impl ApplyInput {
     }
 }
 
+/// How the fog tests the shadows of the sun and of shadowed point and spot lights.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ShadowFilter {
+    /// Depth compares against the full-resolution shadow maps
+    /// (`VOLFOG_INJECT_SHADOW_COMPARE`, the default with one tap): `taps` compares per
+    /// froxel per frame (see [`limits::SHADOW_TAPS`](crate::limits::SHADOW_TAPS)), four
+    /// times as many where the froxel has no history, at points spread over the froxel
+    /// that move from frame to frame; the temporal blend accumulates them into the
+    /// visibility averaged over the froxel, so shafts stay as sharp as the grid allows
+    /// and light does not leak past an occluder's edge. Each compare is a 2 x 2
+    /// percentage-closer filter of the map. No ESM pass runs.
+    Compare {
+        /// Compares per froxel per frame where the froxel has history, 1..=4.
+        taps: u32,
+    },
+    /// Exponential shadow maps (Wronski 2014): the sun's map downsampled 4x and
+    /// blurred, shadowed lights' maps filtered into the local-light atlas, each froxel
+    /// reading one filtered value. Smooth without temporal accumulation, but the blur
+    /// leaks light around occluders (see the accuracy guide).
+    Esm,
+}
+
+impl Default for ShadowFilter {
+    fn default() -> Self {
+        ShadowFilter::Compare { taps: 1 }
+    }
+}
+
+impl ShadowFilter {
+    /// Whether this is the compare filter.
+    pub fn compares(self) -> bool {
+        matches!(self, ShadowFilter::Compare { .. })
+    }
+}
+
 /// The define of depth culling (`VOLFOG_FROXEL_CULL`) for the inject, temporal and scan
 /// variants: none when `cull` is false.
 pub fn cull_defines(cull: bool) -> Vec<String> {
@@ -110,8 +145,11 @@ pub struct InjectOptions {
     pub two_color_phase: bool,
     /// Density multiplied by a 3D texture (`VOLFOG_INJECT_DENSITY_TEXTURE`).
     pub density_texture: bool,
-    /// Log-space ESM (`VOLFOG_ESM_LOG_SPACE`).
+    /// Log-space ESM (`VOLFOG_ESM_LOG_SPACE`); ignored with `shadow_compare`.
     pub esm_log_space: bool,
+    /// The compare filter instead of the ESM (`VOLFOG_INJECT_SHADOW_COMPARE`): the sun's
+    /// and shadowed lights' depth maps compared at the taps of `ShadowTaps`.
+    pub shadow_compare: bool,
     /// Noise read from the baked tileable texture instead of evaluated
     /// (`VOLFOG_INJECT_NOISE_TEXTURE`).
     pub noise_texture: bool,
@@ -142,6 +180,7 @@ impl Default for InjectOptions {
             two_color_phase: false,
             density_texture: false,
             esm_log_space: false,
+            shadow_compare: false,
             noise_texture: false,
             depth_cull: false,
             checkerboard: false,
@@ -157,7 +196,9 @@ impl InjectOptions {
     /// The defines of the inject variant, sorted.
     pub fn defines(&self) -> Vec<String> {
         let mut d = Vec::new();
-        if self.esm_log_space {
+        if self.shadow_compare {
+            d.push("VOLFOG_INJECT_SHADOW_COMPARE".to_string());
+        } else if self.esm_log_space {
             d.push("VOLFOG_ESM_LOG_SPACE".to_string());
         }
         if self.jitter {

@@ -261,6 +261,7 @@ pub const MODULES: &[ModuleSource] = &[
     module!("soft_particles"),
     module!("sky"),
     module!("frustum"),
+    module!("shadow"),
     module!("local_shadow"),
     module!("clouds"),
     module!("epipolar"),
@@ -342,7 +343,8 @@ pub const PASSES: &[PassSource] = &[
     pass!(
         "inject",
         axes: &[
-            Axis::Flag("VOLFOG_ESM_LOG_SPACE"),
+            // Log space only changes how the ESM is read; the compare filter reads none.
+            Axis::OneOf(&["VOLFOG_ESM_LOG_SPACE", "VOLFOG_INJECT_SHADOW_COMPARE"]),
             Axis::Flag("VOLFOG_INJECT_JITTER"),
             Axis::Flag("VOLFOG_INJECT_TWO_COLOR_PHASE"),
             Axis::Flag("VOLFOG_INJECT_DENSITY_TEXTURE"),
@@ -383,10 +385,22 @@ pub const PASSES: &[PassSource] = &[
                 the history was written with (uint). Under VOLFOG_INJECT_LOCAL_SHADOWS binding 18 is the \
                 local-light ESM atlas (r32float 2D array, after local_shadow_downsample \
                 and esm_blur), bound as unfilterable float; binding 19 the \
-                LightProjection buffer (96-byte stride, at least one element) that \
+                LightProjection buffer (112-byte stride, at least one element) that \
                 FogLight.projection indexes (0xffffffff: none); binding 20 the cookie \
                 array (a filterable float 2D array, at least one layer) and binding 21 \
-                its sampler, linear with clamp-to-edge addressing."
+                its sampler, linear with clamp-to-edge addressing. Under \
+                VOLFOG_INJECT_SHADOW_COMPARE (the compare filter) no ESM pass runs: \
+                binding 5 is the sun's cascaded shadow map itself (a depth texture of any \
+                size, one layer per cascade, bound as unfilterable float), binding 27 the \
+                ShadowTaps uniform (the tap offsets of this frame, their counts with and \
+                without history, whether the sun's map holds reversed depth) and binding \
+                28 a non-filtering sampler (nearest, clamp to edge) for the maps' \
+                gathers; with VOLFOG_INJECT_LOCAL_SHADOWS binding 18 is absent and \
+                bindings 29 and 30 are the spot lights' shadow maps and the point lights' \
+                cube maps (six layers a cube), 2D arrays of depth bound as unfilterable \
+                float (bind a 1 x 1 array where there is none), which \
+                LightProjection.layer indexes directly.",
+        non_filtering: &["gather_sampler"]
     ),
     pass!(
         "local_shadow_downsample",

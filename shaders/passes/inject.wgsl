@@ -16,7 +16,9 @@
 // Bindings (group 0):
 //   0  uniform Froxels            1  uniform FogFrame         2  uniform FogMedium
 //   3  uniform FogLighting        4  uniform ShadowCascades
-//   5  texture_2d_array<f32>: filtered ESM, one layer per cascade (R32Float, textureLoad)
+//   5  texture_2d_array<f32>: filtered ESM, one layer per cascade (R32Float, textureLoad);
+//      under VOLFOG_INJECT_SHADOW_COMPARE the sun's cascaded shadow map itself (a depth
+//      texture bound as unfilterable float, one layer per cascade, any size)
 //   6  storage, read: array<FogLight> (point and spot lights)
 //   7  storage, read: array<LocalVolume>
 //   8  texture_storage_3d<rgba16float, write>: the scattering volume
@@ -42,10 +44,22 @@
 //      0 of block (0, 0, 0) writes this frame's camera into it
 //  26  texture_2d<u32>: live slices the history was written with (with
 //      VOLFOG_FROXEL_CULL; 22-26 VOLFOG_INJECT_TEMPORAL only)
+//  27  uniform ShadowTaps: where in each froxel the lights' visibility is tested
+//  28  sampler, non-filtering (nearest), clamp to edge: the shadow maps' gathers
+//  29  texture_2d_array<f32>: the spot lights' shadow maps (depth as unfilterable float)
+//  30  texture_2d_array<f32>: the point lights' cube shadow maps, six layers a cube
+//      (27-28 VOLFOG_INJECT_SHADOW_COMPARE only; 29-30 with VOLFOG_INJECT_LOCAL_SHADOWS,
+//      which then binds no atlas at 18)
 // Lights and local volumes are culled per workgroup: those whose range or extent touches
 // the block's bounding sphere are gathered in workgroup memory (at most 64 lights; when
 // more than 64 local volumes touch a block, every volume is evaluated), so distant ones
 // cost nothing.
+// Shadows. By default the sun's shadow is read from its filtered ESM (and shadowed
+// point and spot lights' from the local-light ESM atlas). Under
+// VOLFOG_INJECT_SHADOW_COMPARE each light's visibility is the mean of
+// ShadowTaps.count depth compares (ShadowTaps.fresh where the froxel has no history)
+// against the full-resolution maps at points spread over the froxel
+// (volfog::shadow); the temporal blend accumulates them over frames.
 // Under FogLighting.transmittance the light of the sun and of every point, spot and
 // directional light is attenuated by the medium's height profile on its way to the
 // froxel (volfog::density::medium_light_transmittance for the sun and directional
@@ -79,9 +93,13 @@
 //                                   buffers by frame parity as for the temporal pass.
 //                                   The blend takes the froxel's value before it is
 //                                   rounded to rgba16float.
+//   VOLFOG_INJECT_SHADOW_COMPARE    the compare filter (see "Shadows" above) instead of
+//                                   the ESM; VOLFOG_ESM_LOG_SPACE does not apply
 //   VOLFOG_INJECT_LOCAL_SHADOWS     point and spot lights with a projection
-//                                   (FogLight.projection) pass their shadow in the
-//                                   atlas and, for spot lights, their cookie
+//                                   (FogLight.projection) pass their shadow (in the
+//                                   atlas, or their own depth maps under
+//                                   VOLFOG_INJECT_SHADOW_COMPARE) and, for spot
+//                                   lights, their cookie
 //                                   (volfog::local_shadow); such lights are gathered
 //                                   apart and looked up only where they shine, so a
 //                                   block no such light touches runs the plain light
@@ -100,7 +118,13 @@
 #ifdef VOLFOG_INJECT_DENSITY_TEXTURE
 #import volfog::density::{local_volume_sample_textured, local_volume_texture_coord}
 #endif
+#ifdef VOLFOG_INJECT_SHADOW_COMPARE
+#import volfog::types::ShadowTaps
+#import volfog::esm::esm_cascade
+#import volfog::shadow::shadow_cascade_compare
+#else
 #import volfog::esm::{esm_cascade, esm_shadow_cascade}
+#endif
 #ifdef VOLFOG_INJECT_CLOUD_SHADOW
 #import volfog::types::CloudLayer
 #import volfog::clouds::cloud_shadow
@@ -108,7 +132,11 @@
 #import volfog::lights::{light_touches_sphere, fog_light_inscatter, sun_inscatter, sun_inscatter_two_color, ambient_inscatter, FOG_LIGHT_DIRECTIONAL}
 #ifdef VOLFOG_INJECT_LOCAL_SHADOWS
 #import volfog::types::LightProjection
+#ifdef VOLFOG_INJECT_SHADOW_COMPARE
+#import volfog::local_shadow::{local_shadow_compare, light_cookie}
+#else
 #import volfog::local_shadow::{local_shadow_visibility, light_cookie}
+#endif
 #endif
 #ifdef VOLFOG_INJECT_TEMPORAL
 #import volfog::types::HistoryState
@@ -123,7 +151,13 @@
 @group(0) @binding(2) var<uniform> fog_medium: FogMedium;
 @group(0) @binding(3) var<uniform> fog_lighting: FogLighting;
 @group(0) @binding(4) var<uniform> shadow_cascades: ShadowCascades;
+#ifdef VOLFOG_INJECT_SHADOW_COMPARE
+@group(0) @binding(5) var shadow_map: texture_2d_array<f32>;
+@group(0) @binding(27) var<uniform> shadow_taps: ShadowTaps;
+@group(0) @binding(28) var gather_sampler: sampler;
+#else
 @group(0) @binding(5) var esm_array: texture_2d_array<f32>;
+#endif
 @group(0) @binding(6) var<storage, read> lights: array<FogLight>;
 @group(0) @binding(7) var<storage, read> local_volumes: array<LocalVolume>;
 @group(0) @binding(8) var scattering: texture_storage_3d<rgba16float, write>;
@@ -145,7 +179,12 @@
 @group(0) @binding(13) var noise_sampler: sampler;
 #endif
 #ifdef VOLFOG_INJECT_LOCAL_SHADOWS
+#ifdef VOLFOG_INJECT_SHADOW_COMPARE
+@group(0) @binding(29) var spot_shadow_maps: texture_2d_array<f32>;
+@group(0) @binding(30) var point_shadow_maps: texture_2d_array<f32>;
+#else
 @group(0) @binding(18) var local_shadow_atlas: texture_2d_array<f32>;
+#endif
 @group(0) @binding(19) var<storage, read> light_projections: array<LightProjection>;
 @group(0) @binding(20) var cookies: texture_2d_array<f32>;
 @group(0) @binding(21) var cookie_sampler: sampler;
@@ -189,6 +228,18 @@ fn world_of(id: vec3<u32>, offset: vec3<f32>) -> vec3<f32> {
     return (frame.world_from_view * vec4<f32>(view, 1.0)).xyz;
 }
 
+// Shadow taps of a froxel: the compare filter's ShadowTaps.count where this pass blends
+// in its history or blends none (the temporal pass may; without temporal reprojection
+// the runtime sets count to fresh), ShadowTaps.fresh where the fused blend finds no
+// history (1, unused, for the ESM).
+fn froxel_taps(has_history: bool) -> u32 {
+#ifdef VOLFOG_INJECT_SHADOW_COMPARE
+    return select(shadow_taps.fresh, shadow_taps.count, has_history);
+#else
+    return 1u;
+#endif
+}
+
 // Live slices of column xy (every slice without culling).
 fn live(xy: vec2<u32>) -> u32 {
 #ifdef VOLFOG_FROXEL_CULL
@@ -204,26 +255,77 @@ fn history_column(xy: vec2<u32>) -> mat2x4<f32> {
     return temporal_history_column(xy, froxels, frame.world_from_view, history_state);
 }
 
-// The stabilised value of froxel id of column `column` (history_column), whose value
-// this frame is now (as the temporal pass computes it).
-fn stabilise(column: mat2x4<f32>, id: vec3<u32>, now: vec4<f32>) -> vec4<f32> {
+// Where froxel id of column `column` (history_column) lies in the history: xyz its
+// texture coordinate, w 1 where the history holds it, else 0 (no history).
+fn history_at(column: mat2x4<f32>, id: vec3<u32>) -> vec4<f32> {
     let at = temporal_history_slice_uvw(column, id.z, froxels, history_state.valid, frame.history_enabled);
+#ifdef VOLFOG_FROXEL_CULL
+    if at.w != 0.0 && !temporal_history_live(at.xyz, froxels.size, history_live_slices) {
+        return vec4<f32>(0.0);
+    }
+#endif
+    return at;
+}
+
+// The stabilised value of froxel id, found at `at` in the history (history_at), whose
+// value this frame is now (as the temporal pass computes it).
+fn stabilise(at: vec4<f32>, id: vec3<u32>, now: vec4<f32>) -> vec4<f32> {
     if at.w == 0.0 {
         return now;
     }
-#ifdef VOLFOG_FROXEL_CULL
-    if !temporal_history_live(at.xyz, froxels.size, history_live_slices) {
-        return now;
-    }
-#endif
     let past = textureSampleLevel(history, history_sampler, at.xyz, 0.0);
     return temporal_blend(now, past, froxel_injected(id, frame.index, frame.checkerboard), frame.history_weight);
 }
 #endif
 
+#ifdef VOLFOG_INJECT_SHADOW_COMPARE
+// World position (xyz) and view depth (w, m) of shadow tap t of froxel id.
+fn shadow_tap(id: vec3<u32>, t: u32) -> vec4<f32> {
+    let view = froxel_view_position(
+        id, shadow_taps.offsets[t].xyz, froxels.size, froxels.view_from_clip, froxels.near, froxels.far, froxels.curve);
+    return vec4<f32>((frame.world_from_view * vec4<f32>(view, 1.0)).xyz, abs(view.z));
+}
+
+// The sun's visibility at a world position and view depth through the cascade that
+// holds it (1 beyond the last cascade). The cascade's matrix is read from the uniform
+// with the varying index (see volfog::esm::esm_shadow_cascade).
+fn sun_compare(world: vec3<f32>, view_depth: f32) -> f32 {
+    let cascade = esm_cascade(view_depth, shadow_cascades.splits, shadow_cascades.count);
+    if cascade >= shadow_cascades.count {
+        return 1.0;
+    }
+    return shadow_cascade_compare(shadow_map, gather_sampler, shadow_cascades.light_from_world[cascade],
+        cascade, world, shadow_taps.sun_reversed_z != 0u);
+}
+
+// The sun's visibility in froxel id: the mean over `taps` taps, tap 0 being the
+// froxel's sample at `world` and view depth `view_depth`.
+fn sun_visibility(id: vec3<u32>, world: vec3<f32>, view_depth: f32, taps: u32) -> f32 {
+    var sum = sun_compare(world, view_depth);
+    for (var t = 1u; t < taps; t++) {
+        let tap = shadow_tap(id, t);
+        sum += sun_compare(tap.xyz, tap.w);
+    }
+    return sum / f32(taps);
+}
+
+#ifdef VOLFOG_INJECT_LOCAL_SHADOWS
+// A shadowed point or spot light's visibility in froxel id: the mean over `taps` taps,
+// tap 0 being the froxel's sample at `world`.
+fn local_visibility(p: LightProjection, id: vec3<u32>, world: vec3<f32>, taps: u32) -> f32 {
+    var sum = local_shadow_compare(spot_shadow_maps, point_shadow_maps, gather_sampler, p, world);
+    for (var t = 1u; t < taps; t++) {
+        sum += local_shadow_compare(spot_shadow_maps, point_shadow_maps, gather_sampler, p, shadow_tap(id, t).xyz);
+    }
+    return sum / f32(taps);
+}
+#endif
+#endif
+
 // Density and in-scattered light of froxel id (rgb = sigma_s L_in, a = sigma_t),
-// with the lights gathered for the workgroup.
-fn froxel_scattering(id: vec3<u32>, tile_light_count: u32, tile_volume_count: u32) -> vec4<f32> {
+// with the lights gathered for the workgroup; the compare filter takes `taps` shadow
+// taps (the ESM ignores them).
+fn froxel_scattering(id: vec3<u32>, tile_light_count: u32, tile_volume_count: u32, taps: u32) -> vec4<f32> {
 #ifdef VOLFOG_INJECT_JITTER
     let offset = frame.jitter;
 #else
@@ -277,14 +379,22 @@ fn froxel_scattering(id: vec3<u32>, tile_light_count: u32, tile_volume_count: u3
         return min(vec4<f32>(emission, 0.0), vec4<f32>(HALF_MAX));
     }
 
-    // Lighting. The cascade's matrix is read from the uniform with the varying index
-    // (see volfog::esm::esm_shadow_cascade).
+    // Lighting.
+#ifdef VOLFOG_INJECT_SHADOW_COMPARE
+    var shadow = 1.0;
+    if shadow_cascades.count > 0u {
+        shadow = sun_visibility(id, world, abs(view.z), taps);
+    }
+#else
+    // The cascade's matrix is read from the uniform with the varying index (see
+    // volfog::esm::esm_shadow_cascade).
     let cascade = esm_cascade(abs(view.z), shadow_cascades.splits, shadow_cascades.count);
     var shadow = 1.0;
     if cascade < shadow_cascades.count {
         shadow = esm_shadow_cascade(esm_array, shadow_cascades.light_from_world[cascade], cascade,
             shadow_cascades.exponent, world);
     }
+#endif
 #ifdef VOLFOG_INJECT_CLOUD_SHADOW
     shadow *= cloud_shadow(cloud_shadow_map, cloud_shadow_sampler, cloud_shadow_layer, world);
 #endif
@@ -319,8 +429,12 @@ fn froxel_scattering(id: vec3<u32>, tile_light_count: u32, tile_volume_count: u3
                 inscatter *= light_path_transmittance(local_light, world);
             }
             let p = light_projections[local_light.projection];
-            light += inscatter * (local_shadow_visibility(local_shadow_atlas, p, world)
-                * light_cookie(cookies, cookie_sampler, p, world));
+#ifdef VOLFOG_INJECT_SHADOW_COMPARE
+            let visibility = local_visibility(p, id, world, taps);
+#else
+            let visibility = local_shadow_visibility(local_shadow_atlas, p, world);
+#endif
+            light += inscatter * (visibility * light_cookie(cookies, cookie_sampler, p, world));
         }
     }
 #endif
@@ -430,16 +544,26 @@ fn inject(
     if has_second && !froxel_injected(pair, frame.index, 1u) {
         id = second;
     }
-    let value = froxel_scattering(id, tile_light_count, tile_volume_count);
 #ifdef VOLFOG_INJECT_TEMPORAL
     // Both froxels of the pair within the live slices, each with its own history (the
     // one not injected takes the history alone, or this value where there is none).
     let column = history_column(pair.xy);
-    textureStore(scattering, pair, stabilise(column, pair, value));
+    let injected_at = history_at(column, id);
+    let value = froxel_scattering(id, tile_light_count, tile_volume_count, froxel_taps(injected_at.w != 0.0));
+    var pair_at = injected_at;
+    if id.z != pair.z {
+        pair_at = history_at(column, pair);
+    }
+    textureStore(scattering, pair, stabilise(pair_at, pair, value));
     if second.z < min(live(pair.xy), froxels.size.z) {
-        textureStore(scattering, second, stabilise(column, second, value));
+        var second_at = injected_at;
+        if id.z != second.z {
+            second_at = history_at(column, second);
+        }
+        textureStore(scattering, second, stabilise(second_at, second, value));
     }
 #else
+    let value = froxel_scattering(id, tile_light_count, tile_volume_count, froxel_taps(true));
     textureStore(scattering, pair, value);
     if has_second {
         textureStore(scattering, second, value);
@@ -451,9 +575,10 @@ fn inject(
         return;
     }
 #ifdef VOLFOG_INJECT_TEMPORAL
-    textureStore(scattering, id, stabilise(history_column(id.xy), id, froxel_scattering(id, tile_light_count, tile_volume_count)));
+    let at = history_at(history_column(id.xy), id);
+    textureStore(scattering, id, stabilise(at, id, froxel_scattering(id, tile_light_count, tile_volume_count, froxel_taps(at.w != 0.0))));
 #else
-    textureStore(scattering, id, froxel_scattering(id, tile_light_count, tile_volume_count));
+    textureStore(scattering, id, froxel_scattering(id, tile_light_count, tile_volume_count, froxel_taps(true)));
 #endif
 #endif
 }

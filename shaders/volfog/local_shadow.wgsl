@@ -2,6 +2,7 @@
 // exponential shadow maps of the lights' own depth maps, gathered in one atlas.
 //
 // Use:      #import volfog::local_shadow::{local_shadow_visibility, light_cookie, LOCAL_SHADOW_NONE}
+//           (local_shadow_compare: the compare filter against the lights' own depth maps)
 //           let p = projections[light.projection];     // when != LOCAL_SHADOW_NONE
 //           light_in *= local_shadow_visibility(atlas, p, world)
 //               * light_cookie(cookies, cookie_sampler, p, world);
@@ -25,6 +26,7 @@
 #import volfog::types::LightProjection
 #import volfog::esm::{esm_encode, esm_occluder, esm_visibility}
 #import volfog::frustum::frustum_depth_from_terms
+#import volfog::shadow::{shadow_pcf, shadow_receiver_depth, shadow_depth_increasing}
 
 // No projection (FogLight.projection), no shadow (LightProjection.layer) or no cookie
 // (LightProjection.cookie).
@@ -117,6 +119,38 @@ fn local_shadow_visibility(atlas: texture_2d_array<f32>, light_projection: Light
     }
     let receiver = clamp((depth - light_projection.bias) / light_projection.depth_range, 0.0, 1.0);
     return esm_visibility(esm_occluder(atlas, uv, layer), receiver, light_projection.exponent);
+}
+
+// Visibility in [0, 1] of a light at a world position by the compare filter
+// (volfog::shadow): a 2 x 2 percentage-closer compare against the light's own depth map,
+// layer light_projection.layer of the spot lights' maps or, for a point light, the
+// face's layer of the cube starting there in the point lights' maps (both depth maps
+// bound as unfilterable float). The receiver, moved `bias` nearer the light, is mapped
+// into the map's depth through LightProjection.depth_terms. 1 when the light has no
+// shadow and, for a spot light, outside its shadow camera's frustum.
+fn local_shadow_compare(
+    spot_maps: texture_2d_array<f32>,
+    point_maps: texture_2d_array<f32>,
+    gather: sampler,
+    light_projection: LightProjection,
+    world: vec3<f32>,
+) -> f32 {
+    if light_projection.layer == LOCAL_SHADOW_NONE {
+        return 1.0;
+    }
+    let terms = light_projection.depth_terms;
+    let increasing = shadow_depth_increasing(terms);
+    if light_projection.kind == LOCAL_SHADOW_POINT {
+        let cube = local_shadow_cube((light_projection.light_from_world * vec4<f32>(world, 1.0)).xyz);
+        let receiver = shadow_receiver_depth(terms, max(cube.depth - light_projection.bias, 0.0));
+        return shadow_pcf(point_maps, gather, cube.uv, light_projection.layer + cube.face, receiver, increasing);
+    }
+    let spot = local_shadow_spot(light_projection.light_from_world, world);
+    if !local_shadow_spot_inside(spot) {
+        return 1.0;
+    }
+    let receiver = shadow_receiver_depth(terms, max(spot.z - light_projection.bias, 0.0));
+    return shadow_pcf(spot_maps, gather, spot.xy, light_projection.layer, receiver, increasing);
 }
 
 // Colour (linear rgb) a spot light's cookie gives its light at a world position: the

@@ -201,6 +201,11 @@ struct LightProjection {
     layer: u32,
     // Layer of the cookie array that a spot light projects, or 0xffffffff: none.
     cookie: u32,
+    // View depth (m) of a depth value d of the light's shadow maps: -(x d + y) / (z d + w),
+    // the depth rows of the inverse of its shadow camera's projection (standard,
+    // reversed or infinite depth; LocalShadowSource.depth_terms). The compare filter
+    // (VOLFOG_INJECT_SHADOW_COMPARE) maps receivers into the maps' depth with it.
+    depth_terms: vec4<f32>,
 }
 
 // One map of the local-light ESM atlas, filled from a shadow depth map by the
@@ -251,6 +256,28 @@ struct ShadowCascades {
     // ESM exponent c applied to depths in [0, 1]; c <= 88 keeps exp(c) finite in f32
     // (larger values need VOLFOG_ESM_LOG_SPACE).
     exponent: f32,
+}
+
+// Where the shadow filter of the fog tests the lights' visibility within a froxel this
+// frame (VOLFOG_INJECT_SHADOW_COMPARE): depth compares against the full-resolution shadow
+// maps at `count` points spread over the froxel (`fresh` where the froxel has no
+// history), which the temporal blend accumulates into the visibility averaged over the
+// froxel's volume.
+struct ShadowTaps {
+    // Offsets from the froxel's centre in froxel units, xyz in [-0.5, 0.5) (w unused).
+    // Tap 0 is the froxel's own sample (FogFrame.jitter); tap t is it moved by t times
+    // the R3 low-discrepancy step (modulo the froxel), so each tap cycles through the
+    // froxel over the frames and the taps of one frame spread over it.
+    offsets: array<vec4<f32>, 16>,
+    // Taps of a froxel, 1..=16: FogConfig's taps (1..=4) with temporal reprojection,
+    // `fresh` without it.
+    count: u32,
+    // Taps of a froxel whose history the fused temporal blend (VOLFOG_INJECT_TEMPORAL)
+    // does not find (the first frame, disocclusions), count..=16.
+    fresh: u32,
+    // 1: the sun's shadow map holds reversed depth (1 at the light's near plane); the
+    // cascades' light_from_world still give standard depth.
+    sun_reversed_z: u32,
 }
 
 // The camera of a frame, for shaders that start from world positions (the fog group's

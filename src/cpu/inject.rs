@@ -9,18 +9,21 @@ use super::density::{
     local_volume_sample, local_volume_sample_textured, local_volume_texture_coord,
     medium_light_transmittance, medium_segment_transmittance, medium_shape,
 };
-use super::esm::{Layer, esm_shadow};
+use super::esm::{Layer, esm_cascade, esm_shadow};
 use super::froxel::froxel_view_position;
 use super::lights::{
     ambient_inscatter, fog_light_inscatter, sun_inscatter, sun_inscatter_two_color,
 };
-use super::local_shadow::{ColorLayer, light_cookie, local_shadow_visibility};
+use super::local_shadow::{
+    ColorLayer, light_cookie, local_shadow_compare, local_shadow_visibility,
+};
 use super::noise::{noise_animated, noise_animated_texture};
+use super::shadow::shadow_cascade_compare;
 pub use super::texture::DensityTexture;
 use crate::options::InjectOptions;
 use crate::uniforms::{
     CloudLayer, FogFrame, FogLight, FogLighting, FogMedium, Froxels, LightProjection, LocalVolume,
-    ShadowCascades,
+    ShadowCascades, ShadowTaps,
 };
 
 /// Everything the inject pass reads.
@@ -36,8 +39,12 @@ pub struct InjectInputs<'a> {
     pub lighting: &'a FogLighting,
     /// Shadow cascades.
     pub cascades: &'a ShadowCascades,
-    /// Filtered ESM layers (one per cascade).
+    /// Filtered ESM layers (one per cascade), or with the compare filter
+    /// (`InjectOptions::shadow_compare`) the sun's shadow map itself, one layer per
+    /// cascade.
     pub esm: &'a [Layer],
+    /// The compare filter's taps (ignored by the ESM).
+    pub shadow_taps: &'a ShadowTaps,
     /// Point and spot lights.
     pub lights: &'a [FogLight],
     /// Local volumes.
@@ -64,8 +71,12 @@ pub struct InjectInputs<'a> {
 pub struct LocalShadowInputs<'a> {
     /// The `LightProjection`s that `FogLight::projection` indexes.
     pub projections: &'a [LightProjection],
-    /// The atlas layers (filtered as the passes filter them).
+    /// The atlas layers (filtered as the passes filter them; the ESM filter).
     pub atlas: &'a [Layer],
+    /// The spot lights' shadow maps (the compare filter).
+    pub spot_maps: &'a [Layer],
+    /// The point lights' cube maps, six layers a cube (the compare filter).
+    pub point_maps: &'a [Layer],
     /// The cookie layers.
     pub cookies: &'a [ColorLayer],
 }
@@ -107,8 +118,66 @@ pub fn injected_source(id: UVec3, frame: &FogFrame, slices: u32) -> UVec3 {
     }
 }
 
-/// The scattering of froxel `id`: rgb = sigma_s L_in, a = sigma_t.
+/// The world position and view depth of shadow tap `tap` of froxel `id` (tap 0: the
+/// froxel's sample, as [`froxel_world_position`]).
+pub fn shadow_tap_position(inputs: &InjectInputs<'_>, id: UVec3, tap: u32) -> (Vec3, f32) {
+    if tap == 0 {
+        return froxel_world_position(inputs.froxels, inputs.frame, id, inputs.options.jitter);
+    }
+    let f = inputs.froxels;
+    let view = froxel_view_position(
+        id,
+        inputs.shadow_taps.offsets[tap as usize].truncate(),
+        f.size,
+        f.view_from_clip,
+        f.near,
+        f.far,
+        f.curve,
+    );
+    (
+        inputs.frame.world_from_view.transform_point3(view),
+        view.z.abs(),
+    )
+}
+
+/// The sun's visibility at a world position and view depth by the compare filter:
+/// the cascade that holds it, 1 beyond the last.
+fn sun_compare(inputs: &InjectInputs<'_>, world: Vec3, view_depth: f32) -> f32 {
+    let c = inputs.cascades;
+    let cascade = esm_cascade(view_depth, c.splits, c.count);
+    if cascade >= c.count {
+        return 1.0;
+    }
+    shadow_cascade_compare(
+        &inputs.esm[cascade as usize],
+        c.light_from_world[cascade as usize],
+        world,
+        inputs.shadow_taps.sun_reversed_z != 0,
+    )
+}
+
+/// The mean over `taps` shadow taps of froxel `id` of a visibility at a world position
+/// and view depth.
+fn tap_mean(inputs: &InjectInputs<'_>, id: UVec3, taps: u32, f: impl Fn(Vec3, f32) -> f32) -> f32 {
+    let taps = taps.max(1);
+    let sum: f32 = (0..taps)
+        .map(|t| {
+            let (world, depth) = shadow_tap_position(inputs, id, t);
+            f(world, depth)
+        })
+        .sum();
+    sum / taps as f32
+}
+
+/// The scattering of froxel `id`: rgb = sigma_s L_in, a = sigma_t; the compare filter
+/// takes `ShadowTaps::count` taps.
 pub fn froxel_scattering(inputs: &InjectInputs<'_>, id: UVec3) -> Vec4 {
+    froxel_scattering_taps(inputs, id, inputs.shadow_taps.count)
+}
+
+/// [`froxel_scattering`] with `taps` shadow taps for the compare filter (the inject
+/// pass takes `ShadowTaps::fresh` where a froxel has no history).
+pub fn froxel_scattering_taps(inputs: &InjectInputs<'_>, id: UVec3, taps: u32) -> Vec4 {
     let (world, view_depth) =
         froxel_world_position(inputs.froxels, inputs.frame, id, inputs.options.jitter);
     let view_dir = (world - inputs.frame.camera_position).normalize();
@@ -144,13 +213,21 @@ pub fn froxel_scattering(inputs: &InjectInputs<'_>, id: UVec3) -> Vec4 {
     }
     let emission = medium.truncate().max(Vec3::ZERO);
     let sigma_t = medium.w.max(0.0);
-    let shadow = esm_shadow(
-        inputs.esm,
-        inputs.cascades,
-        world,
-        view_depth,
-        inputs.options.esm_log_space,
-    );
+    let compare = inputs.options.shadow_compare;
+    let shadow = if !compare {
+        esm_shadow(
+            inputs.esm,
+            inputs.cascades,
+            world,
+            view_depth,
+            inputs.options.esm_log_space,
+        )
+    } else if inputs.cascades.count > 0 {
+        // The sample (tap 0) sits at `world`, as in the pass.
+        tap_mean(inputs, id, taps, |w, d| sun_compare(inputs, w, d))
+    } else {
+        1.0
+    };
     let shadow = match (inputs.options.cloud_shadow, inputs.clouds) {
         (true, Some((map, layer))) => shadow * cloud_shadow(map, layer, world),
         _ => shadow,
@@ -182,9 +259,14 @@ pub fn froxel_scattering(inputs: &InjectInputs<'_>, id: UVec3) -> Vec4 {
             .filter(|_| inputs.options.local_shadows)
             && let Some(p) = local.projections.get(light_source.projection as usize)
         {
-            inscatter *=
+            let visibility = if compare {
+                tap_mean(inputs, id, taps, |w, _| {
+                    local_shadow_compare(local.spot_maps, local.point_maps, p, w)
+                })
+            } else {
                 local_shadow_visibility(local.atlas, p, world, inputs.options.esm_log_space)
-                    * light_cookie(local.cookies, p, world);
+            };
+            inscatter *= visibility * light_cookie(local.cookies, p, world);
         }
         light += inscatter;
     }

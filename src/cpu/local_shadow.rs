@@ -16,6 +16,7 @@ use super::esm::{
     ESM_SUM_EMPTY, Layer, esm_encode, esm_occluder, esm_sum_add4, esm_sum_mean, esm_visibility,
 };
 use super::frustum::frustum_depth_from_terms;
+use super::shadow::{shadow_depth_increasing, shadow_pcf, shadow_receiver_depth};
 use crate::uniforms::{
     LOCAL_SHADOW_NONE, LOCAL_SHADOW_POINT, LOCAL_SHADOW_SPOT, LightProjection, LocalShadowSource,
 };
@@ -121,6 +122,33 @@ pub fn local_shadow_visibility(
     let receiver = ((depth - p.bias) / p.depth_range).clamp(0.0, 1.0);
     let occluder = esm_occluder(&atlas[layer as usize], uv, log_space);
     esm_visibility(occluder, receiver, p.exponent, log_space)
+}
+
+/// Visibility in [0, 1] of a light at a world position by the compare filter
+/// (`local_shadow_compare`): a 2 x 2 percentage-closer compare against its own depth
+/// map, `spot_maps[layer]` or, for a point light, `point_maps[layer + face]`.
+pub fn local_shadow_compare(
+    spot_maps: &[Layer],
+    point_maps: &[Layer],
+    p: &LightProjection,
+    world: Vec3,
+) -> f32 {
+    if p.layer == LOCAL_SHADOW_NONE {
+        return 1.0;
+    }
+    let increasing = shadow_depth_increasing(p.depth_terms);
+    let (map, uv, depth) = if p.kind == LOCAL_SHADOW_POINT {
+        let c = local_shadow_cube(p.light_from_world.transform_point3(world));
+        (&point_maps[(p.layer + c.face) as usize], c.uv, c.depth)
+    } else {
+        let s = local_shadow_spot(p.light_from_world, world);
+        if !local_shadow_spot_inside(s) {
+            return 1.0;
+        }
+        (&spot_maps[p.layer as usize], s.truncate(), s.z)
+    };
+    let receiver = shadow_receiver_depth(p.depth_terms, (depth - p.bias).max(0.0));
+    shadow_pcf(map, uv, receiver, increasing)
 }
 
 /// One layer of an rgba image (a cookie), row-major.

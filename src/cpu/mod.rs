@@ -22,6 +22,7 @@ pub mod local_shadow;
 pub mod noise;
 pub mod phase;
 pub mod scan;
+pub mod shadow;
 pub mod sky;
 pub mod soft_particles;
 pub mod temporal;

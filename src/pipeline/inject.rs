@@ -28,7 +28,8 @@ pub struct InjectResources<'a> {
     pub lighting: &'a wgpu::Buffer,
     /// `ShadowCascades` uniform.
     pub cascades: &'a wgpu::Buffer,
-    /// Filtered ESM array.
+    /// Filtered ESM array, or with the compare filter the sun's cascaded shadow map
+    /// (a depth 2D array view).
     pub esm: &'a wgpu::TextureView,
     /// `array<FogLight>` storage buffer.
     pub lights: &'a wgpu::Buffer,
@@ -54,6 +55,9 @@ pub struct InjectResources<'a> {
     /// The history and the states of the fused-temporal variant (required by it,
     /// ignored by the others); `scattering` is then the stabilised volume.
     pub temporal: Option<InjectTemporalResources<'a>>,
+    /// The `ShadowTaps` uniform of the compare-filter variant (required by it, ignored
+    /// by the others; the pass brings the maps' non-filtering sampler, binding 28).
+    pub shadow_taps: Option<&'a wgpu::Buffer>,
 }
 
 /// The resources of the fused-temporal variant of the inject pass (bindings 22 to 26;
@@ -70,11 +74,17 @@ pub struct InjectTemporalResources<'a> {
     pub history_live_slices: Option<&'a wgpu::TextureView>,
 }
 
-/// The resources of the local-shadow variant of the inject pass (bindings 18 to 21).
+/// The resources of the local-shadow variant of the inject pass (bindings 18 to 21,
+/// and 29 and 30 with the compare filter).
 #[derive(Debug, Clone, Copy)]
 pub struct LocalShadowResources<'a> {
-    /// The local-light ESM atlas (R32Float 2D array).
+    /// The local-light ESM atlas (R32Float 2D array; the ESM filter).
     pub atlas: &'a wgpu::TextureView,
+    /// The spot lights' shadow maps (a depth 2D array view; the compare filter).
+    pub spot_maps: &'a wgpu::TextureView,
+    /// The point lights' cube maps, six layers a cube (a depth 2D array view; the
+    /// compare filter).
+    pub point_maps: &'a wgpu::TextureView,
     /// `array<LightProjection>` storage buffer (at least one element).
     pub projections: &'a wgpu::Buffer,
     /// The cookies (a filterable float 2D array).
@@ -91,6 +101,8 @@ pub struct InjectPass {
     pipeline: wgpu::ComputePipeline,
     /// The history's sampler of the fused-temporal variant.
     history_sampler: Option<wgpu::Sampler>,
+    /// The shadow maps' non-filtering sampler of the compare-filter variant.
+    gather_sampler: Option<wgpu::Sampler>,
 }
 
 impl InjectPass {
@@ -134,13 +146,24 @@ impl InjectPass {
             entries.push(texture_entry(16, c, wgpu::TextureViewDimension::D2, true));
             entries.push(sampler_entry(17, c, true));
         }
+        if options.shadow_compare {
+            entries.push(uniform_entry(27, c));
+            entries.push(sampler_entry(28, c, false));
+        }
         if options.local_shadows {
-            entries.push(texture_entry(
-                18,
-                c,
-                wgpu::TextureViewDimension::D2Array,
-                false,
-            ));
+            let maps: &[u32] = if options.shadow_compare {
+                &[29, 30]
+            } else {
+                &[18]
+            };
+            for &binding in maps {
+                entries.push(texture_entry(
+                    binding,
+                    c,
+                    wgpu::TextureViewDimension::D2Array,
+                    false,
+                ));
+            }
             entries.push(storage_buffer_entry(19, c, true));
             entries.push(texture_entry(
                 20,
@@ -172,6 +195,12 @@ impl InjectPass {
             layout,
             pipeline,
             history_sampler: options.temporal.then(|| super::apply::fog_sampler(device)),
+            gather_sampler: options.shadow_compare.then(|| {
+                device.create_sampler(&wgpu::SamplerDescriptor {
+                    label: Some("volfog inject shadow gather"),
+                    ..Default::default()
+                })
+            }),
         })
     }
 
@@ -242,10 +271,22 @@ impl InjectPass {
                     "the atlas, the projections, the cookies and their sampler",
                 )
             })?;
-            resources.push((18, wgpu::BindingResource::TextureView(l.atlas)));
+            if self.options.shadow_compare {
+                resources.push((29, wgpu::BindingResource::TextureView(l.spot_maps)));
+                resources.push((30, wgpu::BindingResource::TextureView(l.point_maps)));
+            } else {
+                resources.push((18, wgpu::BindingResource::TextureView(l.atlas)));
+            }
             resources.push((19, l.projections.as_entire_binding()));
             resources.push((20, wgpu::BindingResource::TextureView(l.cookies)));
             resources.push((21, wgpu::BindingResource::Sampler(l.cookie_sampler)));
+        }
+        if let Some(sampler) = &self.gather_sampler {
+            let taps = r
+                .shadow_taps
+                .ok_or_else(|| missing("InjectResources.shadow_taps", "the ShadowTaps uniform"))?;
+            resources.push((27, taps.as_entire_binding()));
+            resources.push((28, wgpu::BindingResource::Sampler(sampler)));
         }
         if let Some(sampler) = &self.history_sampler {
             let t = r.temporal.ok_or_else(|| {

@@ -34,10 +34,16 @@ pub struct LightProjection {
     pub bias: f32,
     /// [`LOCAL_SHADOW_SPOT`] or [`LOCAL_SHADOW_POINT`].
     pub kind: u32,
-    /// First atlas layer, or [`LOCAL_SHADOW_NONE`] (unshadowed).
+    /// First atlas layer (the ESM filter) or first layer of the light's own depth map
+    /// in the spot or point shadow maps (the compare filter), or [`LOCAL_SHADOW_NONE`]
+    /// (unshadowed).
     pub layer: u32,
     /// Cookie array layer (spot lights), or [`LOCAL_SHADOW_NONE`].
     pub cookie: u32,
+    /// View depth of a depth value d of the light's shadow maps: `-(x d + y) / (z d +
+    /// w)` ([`LightCamera::depth_terms`]); the compare filter maps receivers into the
+    /// maps' depth with it.
+    pub depth_terms: Vec4,
 }
 
 /// One map of the local-light ESM atlas to fill from a shadow depth map (WGSL
@@ -224,7 +230,7 @@ fn check_near(near: f32, range: f32) -> Result<(), InvalidValue> {
 
 impl LightProjection {
     /// A light's projection: the camera its shadow map was rendered with, its atlas
-    /// layer and cookie layer ([`LOCAL_SHADOW_NONE`] for none), the ESM exponent and
+    /// layer (or its map's first layer, for the compare filter) and cookie layer ([`LOCAL_SHADOW_NONE`] for none), the ESM exponent and
     /// the bias (m); the depth range is the light's range.
     pub fn new(
         light: &FogLight,
@@ -234,7 +240,7 @@ impl LightProjection {
         exponent: f32,
         bias: f32,
     ) -> Result<Self, InvalidValue> {
-        camera.depth_terms()?;
+        let depth_terms = camera.depth_terms()?;
         limits::LOCAL_SHADOW_BIAS.check("ShadowedLight.bias", bias)?;
         Ok(Self {
             light_from_world: camera.light_from_world(),
@@ -244,6 +250,7 @@ impl LightProjection {
             kind: camera.kind(),
             layer,
             cookie,
+            depth_terms,
         })
     }
 }
@@ -258,6 +265,8 @@ impl Default for LightProjection {
             kind: LOCAL_SHADOW_SPOT,
             layer: LOCAL_SHADOW_NONE,
             cookie: LOCAL_SHADOW_NONE,
+            // Standard depth from 1 m to 2 m.
+            depth_terms: Vec4::new(0.0, -2.0, -1.0, 2.0),
         }
     }
 }

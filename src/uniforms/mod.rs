@@ -55,7 +55,7 @@ pub use local_shadow::{
     LightProjection, LocalShadowSource,
 };
 pub use medium::{FogMedium, LocalVolume, VolumeShape};
-pub use shadow::ShadowCascades;
+pub use shadow::{ShadowCascades, ShadowTaps};
 pub use sky::SkyAtmosphere;
 pub use water::Water;
 

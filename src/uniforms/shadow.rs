@@ -1,8 +1,9 @@
 //! `ShadowCascades`: the sun's cascaded shadow maps as the ESM passes and the
-//! injection read them.
+//! injection read them; `ShadowTaps`: where the compare filter tests the lights'
+//! visibility within a froxel.
 
 use encase::ShaderType;
-use glam::{Mat4, Vec4};
+use glam::{Mat4, Vec3, Vec4};
 
 use crate::limits::{self, InvalidValue, Range, check};
 
@@ -56,5 +57,55 @@ impl ShadowCascades {
             return Ok(());
         }
         Self::exponent_range(log_space).check("ShadowCascades.exponent", self.exponent)
+    }
+}
+
+/// Where the fog's compare filter tests the lights' visibility within a froxel this
+/// frame (WGSL `volfog::types::ShadowTaps`, `VOLFOG_INJECT_SHADOW_COMPARE`):
+/// [`VolumetricFog`](crate::pipeline::VolumetricFog) builds it each frame with
+/// [`crate::cpu::shadow::shadow_taps`].
+#[derive(Debug, Clone, Copy, PartialEq, ShaderType)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub struct ShadowTaps {
+    /// Offsets from the froxel's centre in froxel units, xyz in [-0.5, 0.5) (w unused);
+    /// tap 0 is the froxel's own sample (`FogFrame::jitter`).
+    pub offsets: [Vec4; limits::MAX_SHADOW_TAPS as usize],
+    /// Taps of a froxel, 1..=16: the configuration's taps ([`limits::SHADOW_TAPS`])
+    /// with temporal reprojection, `fresh` without it.
+    pub count: u32,
+    /// Taps of a froxel whose history the fused temporal blend does not find (the
+    /// first frame, disocclusions), `count..=16`.
+    pub fresh: u32,
+    /// 1: the sun's shadow map holds reversed depth.
+    pub sun_reversed_z: u32,
+}
+
+impl Default for ShadowTaps {
+    /// One tap at the froxel's centre, standard depth.
+    fn default() -> Self {
+        Self {
+            offsets: [Vec4::ZERO; limits::MAX_SHADOW_TAPS as usize],
+            count: 1,
+            fresh: 1,
+            sun_reversed_z: 0,
+        }
+    }
+}
+
+impl ShadowTaps {
+    /// Checks the values: 1 <= count <= fresh <= 16, offsets within the froxel.
+    pub fn validate(&self) -> Result<(), InvalidValue> {
+        Range::new(1, limits::MAX_SHADOW_TAPS, "taps").check("ShadowTaps.count", self.count)?;
+        Range::new(self.count, limits::MAX_SHADOW_TAPS, "taps")
+            .check("ShadowTaps.fresh", self.fresh)?;
+        check(
+            self.offsets[..self.fresh as usize].iter().all(|o| {
+                o.truncate().cmpge(Vec3::splat(-0.5)).all()
+                    && o.truncate().cmplt(Vec3::splat(0.5)).all()
+            }),
+            "ShadowTaps.offsets",
+            &self.offsets[..self.fresh as usize],
+            "offsets in [-0.5, 0.5) froxels",
+        )
     }
 }

@@ -4,12 +4,14 @@
 use glam::{Mat4, UVec3, Vec3, Vec4};
 use volfog::cpu::esm::Layer;
 use volfog::cpu::froxel::froxel_jitter;
+use volfog::cpu::shadow::SHADOW_TAP_STEP;
+use volfog::options::ShadowFilter;
 use volfog::pipeline::{
     FogConfig, FrameInputs, FrameUniforms, VolumetricFog, cascade_projection, cascade_splits,
 };
 use volfog::uniforms::{
     FogFrame, FogLight, FogLighting, FogMedium, FogView, Froxels, LocalVolume, ShadowCascades,
-    VolumeShape,
+    ShadowTaps, VolumeShape,
 };
 
 use crate::gpu::Gpu;
@@ -271,6 +273,43 @@ pub fn expected_uniforms(
             .with_sun_transmittance(config.light_transmittance)
             .to_view_space(view_from_world),
         view: FogView { view_from_world },
+        shadow_taps: expected_shadow_taps(config, index),
+    }
+}
+
+/// The compare filter's taps of frame `index`: tap 0 at the froxel's sample (the
+/// frame's jitter), tap t moved t R3 steps from it modulo the froxel; `taps` per
+/// froxel with history and 4 taps without (every froxel without temporal blending).
+fn expected_shadow_taps(config: &FogConfig, index: u32) -> ShadowTaps {
+    let jitter = if config.jitter {
+        froxel_jitter(index)
+    } else {
+        Vec3::ZERO
+    };
+    let taps = match config.shadow_filter {
+        ShadowFilter::Compare { taps } => taps,
+        ShadowFilter::Esm => 1,
+    };
+    let mut offsets = [Vec4::ZERO; 16];
+    for (t, o) in offsets.iter_mut().enumerate() {
+        let moved = jitter + 0.5 + SHADOW_TAP_STEP * t as f32;
+        let wrapped = Vec3::new(
+            moved.x.rem_euclid(1.0),
+            moved.y.rem_euclid(1.0),
+            moved.z.rem_euclid(1.0),
+        );
+        *o = if t == 0 {
+            jitter
+        } else {
+            wrapped.min(Vec3::splat(1.0 - f32::EPSILON)) - 0.5
+        }
+        .extend(0.0);
+    }
+    ShadowTaps {
+        offsets,
+        count: if config.temporal { taps } else { 4 * taps },
+        fresh: 4 * taps,
+        sun_reversed_z: u32::from(config.shadow_reversed_z),
     }
 }
 

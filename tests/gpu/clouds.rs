@@ -548,6 +548,7 @@ fn fog_carries_the_cloud_shadows() {
         lighting: &u.lighting,
         cascades: &u.cascades,
         esm: &[],
+        shadow_taps: &u.shadow_taps,
         lights: &[],
         local_volumes: &[],
         options: config.inject_options(),

@@ -26,6 +26,7 @@ mod phase;
 mod pipeline;
 mod properties;
 mod scan;
+mod shadow_filter;
 mod shared_fog;
 mod sky;
 mod soft_particles;

@@ -223,6 +223,7 @@ fn runtime_layouts_match_the_shaders() {
             cloud_shadow: v.defines.contains(&"VOLFOG_INJECT_CLOUD_SHADOW"),
             local_shadows: v.defines.contains(&"VOLFOG_INJECT_LOCAL_SHADOWS"),
             temporal: v.defines.contains(&"VOLFOG_INJECT_TEMPORAL"),
+            shadow_compare: v.defines.contains(&"VOLFOG_INJECT_SHADOW_COMPARE"),
             ..InjectOptions::default()
         };
         checked += check(

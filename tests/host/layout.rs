@@ -56,7 +56,7 @@ impl Marker for [Mat4; 4] {
         })
     }
 }
-impl Marker for [Vec4; 4] {
+impl<const N: usize> Marker for [Vec4; N] {
     fn marker() -> Self {
         std::array::from_fn(|k| {
             Vec4::from_array(std::array::from_fn(|i| 300.0 + (4 * k + i) as f32))
@@ -273,6 +273,7 @@ fn rust_layouts() -> BTreeMap<&'static str, Measured> {
             kind: u32,
             layer: u32,
             cookie: u32,
+            depth_terms: Vec4,
         }),
         measure!(LocalShadowSource {
             depth_terms: Vec4,
@@ -295,6 +296,12 @@ fn rust_layouts() -> BTreeMap<&'static str, Measured> {
             splits: Vec4,
             count: u32,
             exponent: f32,
+        }),
+        measure!(ShadowTaps {
+            offsets: [Vec4; 16],
+            count: u32,
+            fresh: u32,
+            sun_reversed_z: u32,
         }),
         measure!(Froxels {
             clip_from_view: Mat4,
@@ -394,6 +401,7 @@ fn uniform_structs_serialize_with_wgsl_member_names() {
         ("LocalShadowSource", keys(LocalShadowSource::default())),
         ("FogLighting", keys(FogLighting::default())),
         ("ShadowCascades", keys(ShadowCascades::default())),
+        ("ShadowTaps", keys(ShadowTaps::default())),
         ("Froxels", keys(Froxels::default())),
     ]);
     let wgsl = wgsl_layouts();

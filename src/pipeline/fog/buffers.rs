@@ -4,7 +4,7 @@
 use super::{FogConfig, storage_buffer, uniform_buffer};
 use crate::uniforms::{
     self, FogFrame, FogLight, FogLighting, FogMedium, FogView, Froxels, HeightFog, LocalVolume,
-    ShadowCascades,
+    ShadowCascades, ShadowTaps,
 };
 
 /// The uniform and storage buffers of the fog.
@@ -19,6 +19,8 @@ pub(super) struct Buffers {
     pub(super) view: wgpu::Buffer,
     pub(super) lights: wgpu::Buffer,
     pub(super) local_volumes: wgpu::Buffer,
+    /// `ShadowTaps` (the compare filter).
+    pub(super) shadow_taps: wgpu::Buffer,
 }
 
 impl Buffers {
@@ -57,10 +59,14 @@ impl Buffers {
             ),
             lights: storage_buffer(device, "volfog lights", lights.len()),
             local_volumes: storage_buffer(device, "volfog local volumes", volumes.len()),
+            shadow_taps: uniform(
+                "volfog shadow taps",
+                uniforms::to_uniform_bytes(&ShadowTaps::default()),
+            ),
         }
     }
 
-    pub(super) fn all(&self) -> [&wgpu::Buffer; 9] {
+    pub(super) fn all(&self) -> [&wgpu::Buffer; 10] {
         [
             &self.froxels,
             &self.frame,
@@ -71,6 +77,7 @@ impl Buffers {
             &self.view,
             &self.lights,
             &self.local_volumes,
+            &self.shadow_taps,
         ]
     }
 }

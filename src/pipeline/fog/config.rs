@@ -3,7 +3,7 @@
 use glam::UVec3;
 
 use crate::limits::{self, InvalidValue};
-use crate::options::{EsmOptions, Filtering, InjectOptions, ScanStep};
+use crate::options::{EsmOptions, Filtering, InjectOptions, ScanStep, ShadowFilter};
 use crate::uniforms::ShadowCascades;
 
 /// Configuration of a [`VolumetricFog`](super::VolumetricFog). Every range is in
@@ -18,7 +18,14 @@ pub struct FogConfig {
     pub far: f32,
     /// Slice distribution curve (0 linear, ln(far / near) exponential).
     pub slice_curve: f32,
-    /// ESM size per cascade in texels; the shadow map is 4x as large.
+    /// How the shadows of the sun and of shadowed point and spot lights are tested in
+    /// the fog: depth compares against the full-resolution maps at points spread over
+    /// each froxel, accumulated by the temporal blend (the default, one tap per froxel
+    /// per frame), or exponential shadow maps ([`ShadowFilter`]). The `esm_*` fields
+    /// and [`LocalShadowConfig::exponent`] apply to the ESM filter only.
+    pub shadow_filter: ShadowFilter,
+    /// ESM size per cascade in texels; the shadow map is 4x as large (with the ESM
+    /// filter; the compare filter reads a shadow map of any size).
     pub esm_resolution: u32,
     /// Shadow cascades.
     pub cascades: u32,
@@ -111,7 +118,8 @@ pub struct LocalShadowConfig {
     pub resolution: u32,
     /// ESM exponent for linear depths in [0, 1] (the light's range maps to 1): behind
     /// an occluder the fog's light falls below 5 % within `3 range / exponent` metres.
-    /// At most 88 unless `FogConfig::esm_log_space`.
+    /// At most 88 unless `FogConfig::esm_log_space`. The compare filter has no atlas
+    /// and ignores `resolution` and `exponent`.
     pub exponent: f32,
 }
 
@@ -142,6 +150,7 @@ impl Default for FogConfig {
             near: 0.5,
             far: 128.0,
             slice_curve: 4.0,
+            shadow_filter: ShadowFilter::default(),
             esm_resolution: 256,
             cascades: 4,
             esm_exponent: 40.0,
@@ -185,6 +194,9 @@ impl FogConfig {
             self.far,
             self.slice_curve,
         )?;
+        if let ShadowFilter::Compare { taps } = self.shadow_filter {
+            limits::SHADOW_TAPS.check("FogConfig.shadow_filter.taps", taps)?;
+        }
         limits::ESM_RESOLUTION.check("FogConfig.esm_resolution", self.esm_resolution)?;
         limits::CASCADES.check("FogConfig.cascades", self.cascades)?;
         ShadowCascades::exponent_range(self.esm_log_space)
@@ -215,7 +227,8 @@ impl FogConfig {
             jitter: self.jitter,
             two_color_phase: self.two_color_phase,
             density_texture: self.density_texture,
-            esm_log_space: self.esm_log_space,
+            esm_log_space: self.esm_log_space && !self.shadow_filter.compares(),
+            shadow_compare: self.shadow_filter.compares(),
             noise_texture: self.noise_texture,
             depth_cull: self.depth_cull,
             checkerboard: self.amortize,
@@ -242,7 +255,8 @@ impl FogConfig {
     }
 
     /// The shadow map [`VolumetricFog::set_shadow_map`](super::VolumetricFog::set_shadow_map)
-    /// expects: texels per side (4x the ESM) and layers (one per cascade).
+    /// expects with the ESM filter: texels per side (4x the ESM) and layers (one per
+    /// cascade). The compare filter takes any square size with as many layers.
     pub fn shadow_map_size(&self) -> (u32, u32) {
         (self.esm_resolution * 4, self.cascades)
     }

@@ -32,6 +32,11 @@ impl VolumetricFog {
         queue.write_buffer(&b.medium, 0, &uniforms::to_uniform_bytes(&u.medium));
         queue.write_buffer(&b.lighting, 0, &uniforms::to_uniform_bytes(&u.lighting));
         queue.write_buffer(&b.cascades, 0, &uniforms::to_uniform_bytes(&u.cascades));
+        queue.write_buffer(
+            &b.shadow_taps,
+            0,
+            &uniforms::to_uniform_bytes(&u.shadow_taps),
+        );
         queue.write_buffer(&b.tail, 0, &u.tail.to_bytes());
         self.tail = crate::pipeline::apply::Tail::of(&u.tail);
         queue.write_buffer(&b.view, 0, &uniforms::to_uniform_bytes(&u.view));
@@ -131,7 +136,10 @@ impl VolumetricFog {
             .and_then(|c| Some(&c.pass).zip(c.depth.as_ref()));
         let shadow = self.shadow_map.as_ref().filter(|_| self.shadows_enabled);
         let runs = match pass {
-            FogPass::EsmDownsample | FogPass::EsmBlur => shadow.is_some(),
+            // The compare filter reads the shadow map itself.
+            FogPass::EsmDownsample | FogPass::EsmBlur => {
+                shadow.is_some() && !c.shadow_filter.compares()
+            }
             FogPass::Temporal => self.temporal.as_ref().is_some_and(|t| t.pass.is_some()),
             FogPass::Inject | FogPass::Scan => true,
             FogPass::Cull => cull.is_some(),

@@ -11,12 +11,22 @@ use crate::pipeline::scan::ScanPass;
 use crate::pipeline::temporal::{TemporalPass, TemporalResources};
 
 impl VolumetricFog {
+    /// What inject reads at binding 5: the filtered ESM, or with the compare filter the
+    /// sun's shadow map (the 1 x 1 placeholder ESM while none is set).
+    pub(super) fn inject_sun_view(&self) -> wgpu::TextureView {
+        match &self.shadow_map {
+            Some(map) if self.config.shadow_filter.compares() => array_view(&map.texture),
+            _ => array_view(&self.esm_texture),
+        }
+    }
+
     pub(super) fn rebuild_inject_groups(&mut self, device: &wgpu::Device) {
         let scattering = view(&self.scattering);
         let fused = self
             .temporal
             .as_ref()
             .filter(|_| self.config.fused_temporal());
+        let sun_view = self.inject_sun_view();
         let groups = |inject: &InjectPass| {
             [0, 1].map(|p| {
                 let (output, temporal) =
@@ -25,7 +35,7 @@ impl VolumetricFog {
                     device,
                     inject,
                     &self.buffers,
-                    &array_view(&self.esm_texture),
+                    &sun_view,
                     output,
                     InjectTextures {
                         density: self.density.as_ref(),
@@ -213,6 +223,7 @@ pub(super) fn inject_bind_group(
                     .zip(local_views.as_ref())
                     .map(|(l, v)| l.resources(v)),
                 temporal,
+                shadow_taps: Some(&buffers.shadow_taps),
             },
         )
         .expect("the fog binds every texture its inject variant reads")

@@ -7,10 +7,12 @@ use super::config::FogConfig;
 use super::local_shadows::ShadowedLight;
 use crate::cpu::ambient::AmbientSh;
 use crate::cpu::froxel::froxel_jitter;
+use crate::cpu::shadow::shadow_taps;
 use crate::limits::{InvalidValue, check};
+use crate::options::ShadowFilter;
 use crate::uniforms::{
     CloudLayer, DirectionalLight, FogFrame, FogLight, FogLighting, FogMedium, FogView, Froxels,
-    HeightFog, LocalVolume, ShadowCascades,
+    HeightFog, LocalVolume, ShadowCascades, ShadowTaps,
 };
 
 /// The uniforms one frame's inputs become: what
@@ -33,6 +35,9 @@ pub struct FrameUniforms {
     pub tail: HeightFog,
     /// The camera for shaders that start from world positions.
     pub view: FogView,
+    /// Where the compare filter tests the lights' visibility within a froxel (see
+    /// [`ShadowFilter::Compare`]).
+    pub shadow_taps: ShadowTaps,
 }
 
 /// Per-frame inputs.
@@ -171,16 +176,26 @@ impl FrameInputs<'_> {
         )?;
         self.validate(config)?;
         let world_from_view = self.view_from_world.inverse();
+        let jitter = if config.jitter {
+            froxel_jitter(index)
+        } else {
+            Vec3::ZERO
+        };
+        let taps = match config.shadow_filter {
+            ShadowFilter::Compare { taps } => taps,
+            ShadowFilter::Esm => 1,
+        };
+        let mut shadow_taps = shadow_taps(jitter, taps, config.shadow_reversed_z);
+        if !config.temporal {
+            // Without a history every froxel takes the taps of one that has none.
+            shadow_taps.count = shadow_taps.fresh;
+        }
         let frame = FogFrame {
             world_from_view,
             clip_from_world: self.clip_from_view * self.view_from_world,
             camera_position: world_from_view.w_axis.truncate(),
             time: self.time,
-            jitter: if config.jitter {
-                froxel_jitter(index)
-            } else {
-                Vec3::ZERO
-            },
+            jitter,
             history_weight: config.history_weight,
             index,
             history_enabled: u32::from(!self.reset_history),
@@ -210,6 +225,7 @@ impl FrameInputs<'_> {
             view: FogView {
                 view_from_world: self.view_from_world,
             },
+            shadow_taps,
         })
     }
 }

@@ -1,15 +1,14 @@
-//! Shadows and cookies of point and spot lights in [`VolumetricFog`]: the caller's
-//! depth maps and cookies, the local-light ESM atlas they are filtered into, and each
-//! frame's [`ShadowedLight`]s turned into `LightProjection`s within the budget.
+//! Shadows and cookies of point and spot lights in [`VolumetricFog`](super::VolumetricFog):
+//! the caller's depth maps and cookies, the local-light ESM atlas they are filtered into
+//! (the ESM filter; the compare filter reads the maps themselves), and each frame's
+//! [`ShadowedLight`]s turned into `LightProjection`s within the budget.
 
 use std::ops::Range;
 
 use super::atlas_layers::{LayerRequest, assign_layers, layer_runs};
 use super::config::LocalShadowConfig;
-use super::resources::{check_filterable, check_texture_binding, mismatch};
-use super::{
-    FogConfig, FogError, SHADOW_MAP_FORMATS, VolumetricFog, array_view, esm_texture, storage_buffer,
-};
+use super::resources::{check_texture_binding, mismatch};
+use super::{FogConfig, FogError, SHADOW_MAP_FORMATS, array_view, esm_texture, storage_buffer};
 use crate::limits::{self, InvalidValue, check};
 use crate::pipeline::esm::EsmPasses;
 use crate::pipeline::inject::LocalShadowResources;
@@ -132,6 +131,8 @@ pub(super) struct LocalShadowPlan {
 #[derive(Debug)]
 pub(super) struct LocalShadows {
     config: LocalShadowConfig,
+    /// The compare filter: inject reads the depth maps, there is no atlas.
+    compare: bool,
     pass: LocalShadowPass,
     /// The atlas and the blur's scratch array, made when the first depth maps are set.
     atlas: Option<[wgpu::Texture; 2]>,
@@ -200,6 +201,7 @@ impl LocalShadows {
         ]);
         Ok(Some(Self {
             config: local,
+            compare: config.shadow_filter.compares(),
             pass: LocalShadowPass::new(device, config.esm_log_space)?,
             atlas: None,
             placeholder: small_texture(
@@ -228,28 +230,74 @@ impl LocalShadows {
         }))
     }
 
-    /// The views inject binds (18 to 21).
-    pub(super) fn views(&self) -> (wgpu::TextureView, wgpu::TextureView) {
+    /// The views inject binds: the atlas, the cookies, the spot and the point maps
+    /// (placeholders where there are none).
+    pub(super) fn views(&self) -> [wgpu::TextureView; 4] {
         let atlas = self.atlas.as_ref().map_or(&self.placeholder, |a| &a[0]);
         let cookies = self.cookies.as_ref().unwrap_or(&self.no_cookies);
-        (array_view(atlas), array_view(cookies))
+        let maps = |m: &Option<wgpu::Texture>| array_view(m.as_ref().unwrap_or(&self.placeholder));
+        [
+            array_view(atlas),
+            array_view(cookies),
+            maps(&self.spot_maps),
+            maps(&self.point_maps),
+        ]
     }
 
     pub(super) fn resources<'a>(
         &'a self,
-        views: &'a (wgpu::TextureView, wgpu::TextureView),
+        views: &'a [wgpu::TextureView; 4],
     ) -> LocalShadowResources<'a> {
         LocalShadowResources {
-            atlas: &views.0,
+            atlas: &views[0],
+            spot_maps: &views[2],
+            point_maps: &views[3],
             projections: &self.projections,
-            cookies: &views.1,
+            cookies: &views[1],
             cookie_sampler: &self.cookie_sampler,
         }
     }
 
+    /// Checks and uses the spot lights' (`cube` false) or the point lights' depth maps.
+    pub(super) fn set_maps(
+        &mut self,
+        device: &wgpu::Device,
+        esm: &EsmPasses,
+        texture: &wgpu::Texture,
+        cube: bool,
+    ) -> Result<(), FogError> {
+        if cube {
+            self.check_maps("the point shadow maps", texture, true)?;
+            self.point_maps = Some(texture.clone());
+        } else {
+            self.check_maps("the spot shadow maps", texture, false)?;
+            self.spot_maps = Some(texture.clone());
+        }
+        self.rebuild(device, esm);
+        Ok(())
+    }
+
+    /// Uses the cookies (checked by the caller).
+    pub(super) fn set_cookies(&mut self, texture: &wgpu::Texture) {
+        self.cookies = Some(texture.clone());
+    }
+
+    /// What the prepared frame's shadowed lights got.
+    pub(super) fn stats(&self) -> LocalShadowStats {
+        self.stats
+    }
+
+    /// The atlas, once made (never with the compare filter).
+    pub(super) fn atlas(&self) -> Option<&wgpu::Texture> {
+        self.atlas.as_ref().map(|a| &a[0])
+    }
+
     /// Makes the atlas (once) and the bind groups that fill it from the depth maps
-    /// set so far.
+    /// set so far (nothing with the compare filter).
     fn rebuild(&mut self, device: &wgpu::Device, esm: &EsmPasses) {
+        if self.compare {
+            return;
+        }
         let (size, layers) = (self.config.resolution, self.config.layers().max(1));
         let atlas = self.atlas.get_or_insert_with(|| {
             [
@@ -298,9 +346,17 @@ impl LocalShadows {
             ));
         }
         let factor = size.width / res;
-        if size.width != size.height
-            || !size.width.is_multiple_of(res)
-            || !limits::LOCAL_SHADOW_FACTOR.contains(factor)
+        if size.width != size.height {
+            return Err(mismatch(
+                what,
+                "size",
+                (size.width, size.height),
+                "square".into(),
+            ));
+        }
+        // The atlas filters whole blocks of texels; the compare filter reads any size.
+        if !self.compare
+            && (!size.width.is_multiple_of(res) || !limits::LOCAL_SHADOW_FACTOR.contains(factor))
         {
             return Err(mismatch(
                 what,
@@ -406,6 +462,7 @@ impl LocalShadows {
                 }
             };
             let mut request = None;
+            let mut direct = None;
             if let Some(map) = s.shadow {
                 let (maps, per_map, what) = if point {
                     (
@@ -434,7 +491,15 @@ impl LocalShadows {
                 } else {
                     spots < self.config.spot_shadows
                 };
-                if granted {
+                if granted && self.compare {
+                    // The light's own map, read where it lies.
+                    direct = Some(map * per_map);
+                    if point {
+                        points += 1;
+                    } else {
+                        spots += 1;
+                    }
+                } else if granted {
                     request = Some(requests.len());
                     requests.push(LayerRequest {
                         sources: (0..per_map)
@@ -459,7 +524,7 @@ impl LocalShadows {
                 }
             }
             out[s.light as usize].projection = entries.len() as u32;
-            entries.push((s, light, cookie, request));
+            entries.push((s, light, cookie, request, direct));
         }
         let grants = assign_layers(&self.held, &requests);
         let mut sources = Vec::new();
@@ -480,8 +545,12 @@ impl LocalShadows {
         }
         let projections = entries
             .iter()
-            .map(|(s, light, cookie, request)| {
-                let layer = request.map_or(LOCAL_SHADOW_NONE, |r| grants[r].first);
+            .map(|(s, light, cookie, request, direct)| {
+                let layer = match (request, direct) {
+                    (Some(r), _) => grants[*r].first,
+                    (None, Some(layer)) => *layer,
+                    (None, None) => LOCAL_SHADOW_NONE,
+                };
                 LightProjection::new(
                     light,
                     &s.camera,
@@ -604,78 +673,4 @@ fn layers_view(texture: &wgpu::Texture, layers: &Range<u32>) -> wgpu::TextureVie
         array_layer_count: Some(layers.len() as u32),
         ..Default::default()
     })
-}
-
-fn local_shadows_off() -> FogError {
-    FogError::Invalid(InvalidValue {
-        field: "FogConfig.local_shadows",
-        value: "None".to_string(),
-        expected: "Some(LocalShadowConfig) to use shadowed point and spot lights or cookies".into(),
-    })
-}
-
-impl VolumetricFog {
-    /// Uses the spot lights' shadow maps: a 2D depth array (a layer per light,
-    /// [`ShadowedLight::shadow`]) of `k x LocalShadowConfig::resolution` texels per side
-    /// (k from 1 to 16), in one of [`SHADOW_MAP_FORMATS`](super::SHADOW_MAP_FORMATS),
-    /// with `TEXTURE_BINDING` usage; standard, reversed or infinite depth as the
-    /// [`LightCamera`] of each light says. Each frame's shadowed spot lights are
-    /// filtered from it into the atlas.
-    pub fn set_spot_shadow_maps(
-        &mut self,
-        device: &wgpu::Device,
-        texture: &wgpu::Texture,
-    ) -> Result<(), FogError> {
-        let local = self.local_shadows.as_mut().ok_or_else(local_shadows_off)?;
-        local.check_maps("the spot shadow maps", texture, false)?;
-        local.spot_maps = Some(texture.clone());
-        local.rebuild(device, &self.esm);
-        self.enable_shadowed_inject(device)
-    }
-
-    /// Uses the point lights' cube shadow maps: a 2D depth array of six layers per
-    /// light (a cube or cube-array texture), faces in the order +X, -X, +Y, -Y, +Z, -Z
-    /// as a cube map lays them out ([`LightCamera::cube_face_view`]); otherwise as
-    /// [`VolumetricFog::set_spot_shadow_maps`].
-    pub fn set_point_shadow_maps(
-        &mut self,
-        device: &wgpu::Device,
-        texture: &wgpu::Texture,
-    ) -> Result<(), FogError> {
-        let local = self.local_shadows.as_mut().ok_or_else(local_shadows_off)?;
-        local.check_maps("the point shadow maps", texture, true)?;
-        local.point_maps = Some(texture.clone());
-        local.rebuild(device, &self.esm);
-        self.enable_shadowed_inject(device)
-    }
-
-    /// Uses a 2D array of cookies (a filterable float format, e.g. Rgba8Unorm, with
-    /// `TEXTURE_BINDING` usage): a spot light with [`ShadowedLight::cookie`] multiplies
-    /// its light by the layer's colour where its camera projects it, sampled linearly
-    /// with clamp to edge (v down), and gives no light outside the camera's frustum.
-    pub fn set_cookies(
-        &mut self,
-        device: &wgpu::Device,
-        texture: &wgpu::Texture,
-    ) -> Result<(), FogError> {
-        let local = self.local_shadows.as_mut().ok_or_else(local_shadows_off)?;
-        check_filterable(texture, device, "the cookies", wgpu::TextureDimension::D2)?;
-        local.cookies = Some(texture.clone());
-        self.enable_shadowed_inject(device)
-    }
-
-    /// What the prepared frame's [`ShadowedLight`]s got: the shadowed lights of each
-    /// kind, those beyond the budget (lit unshadowed) and the atlas layers filled.
-    pub fn local_shadow_stats(&self) -> LocalShadowStats {
-        self.local_shadows
-            .as_ref()
-            .map(|l| l.stats)
-            .unwrap_or_default()
-    }
-
-    /// The local-light ESM atlas once a shadow map array is set (R32Float, one layer
-    /// per spot light, six per point light, filled from layer 0 by each frame).
-    pub fn local_shadow_atlas(&self) -> Option<&wgpu::Texture> {
-        self.local_shadows.as_ref()?.atlas.as_ref().map(|a| &a[0])
-    }
 }

@@ -84,7 +84,7 @@ pub(crate) use resources::{
 };
 use textures::{
     CloudShadow, Culling, Density, Noise, ShadowMap, Temporal, density_sampler, empty_cloud_map,
-    esm_texture_scratch, unit_density_texture,
+    esm_side, esm_texture_scratch, unit_density_texture,
 };
 
 /// The froxel volumetric fog pipeline.
@@ -226,7 +226,7 @@ impl VolumetricFog {
             culling.as_ref(),
         );
 
-        let esm_texture = esm_texture(device, "volfog esm", config.esm_resolution, config.cascades);
+        let esm_texture = esm_texture(device, "volfog esm", esm_side(config), config.cascades);
         let esm_scratch = esm_texture_scratch(device, config);
         let (esm_view, scratch_view) = (array_view(&esm_texture), array_view(&esm_scratch));
         let blur_groups = blur_groups(device, &esm, &esm_view, &scratch_view);

@@ -148,7 +148,16 @@ pub(crate) fn check_shadow_map(
             "D2 (with array layers)".into(),
         ));
     }
-    if size.width != side || size.height != side {
+    if config.shadow_filter.compares() {
+        if size.width != size.height {
+            return Err(mismatch(
+                WHAT,
+                "size",
+                (size.width, size.height),
+                "square (the compare filter reads any size)".into(),
+            ));
+        }
+    } else if size.width != side || size.height != side {
         return Err(mismatch(
             WHAT,
             "size",

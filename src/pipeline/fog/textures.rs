@@ -109,7 +109,8 @@ impl VolumetricFog {
         self.temporal.as_ref().map(|t| &t.states[parity])
     }
 
-    /// The filtered ESM array (one layer per cascade).
+    /// The filtered ESM array (one layer per cascade; 1 x 1 texels with the compare
+    /// filter, which reads the shadow map itself).
     pub fn esm_texture(&self) -> &wgpu::Texture {
         &self.esm_texture
     }
@@ -161,9 +162,20 @@ pub(super) fn esm_texture_scratch(device: &wgpu::Device, config: &FogConfig) -> 
     esm_texture(
         device,
         "volfog esm scratch",
-        config.esm_resolution,
+        esm_side(config),
         config.cascades,
     )
+}
+
+/// Texels per side of the fog's ESM arrays: the ESM resolution, or 1 with the compare
+/// filter, which reads no ESM (the array is then what inject binds while no shadow map
+/// is set).
+pub(super) fn esm_side(config: &FogConfig) -> u32 {
+    if config.shadow_filter.compares() {
+        1
+    } else {
+        config.esm_resolution
+    }
 }
 
 pub(super) fn unit_density_texture(device: &wgpu::Device) -> wgpu::Texture {

@@ -1,11 +1,15 @@
 //! The caller's textures [`VolumetricFog`] reads: the shadow map, the density
-//! texture, the cloud map and the scene depth, checked and bound (or cleared).
+//! texture, the cloud map, the scene depth, and the point and spot lights' shadow maps
+//! and cookies, checked and bound (or cleared).
 
+use super::local_shadows::LocalShadowStats;
+use super::resources::check_filterable;
 use super::textures::ShadowMap;
 use super::{
     FogError, VolumetricFog, array_view, check_cloud_map, check_density_texture, check_scene_depth,
     check_shadow_map,
 };
+use crate::limits::InvalidValue;
 
 impl VolumetricFog {
     /// Uses the sun's cascaded shadow map for the ESM passes: a 2D texture with
@@ -30,6 +34,9 @@ impl VolumetricFog {
             texture: texture.clone(),
             group,
         });
+        if self.config.shadow_filter.compares() {
+            self.rebuild_inject_groups(device);
+        }
         Ok(())
     }
 
@@ -143,4 +150,76 @@ fn option_off(field: &'static str, what: &str) -> FogError {
         value: "false".to_string(),
         expected: format!("true to use {what}").into(),
     })
+}
+
+fn local_shadows_off() -> FogError {
+    FogError::Invalid(InvalidValue {
+        field: "FogConfig.local_shadows",
+        value: "None".to_string(),
+        expected: "Some(LocalShadowConfig) to use shadowed point and spot lights or cookies".into(),
+    })
+}
+
+impl VolumetricFog {
+    /// Uses the spot lights' shadow maps: a square 2D depth array (a layer per light,
+    /// [`ShadowedLight::shadow`](super::ShadowedLight::shadow)) in one of [`SHADOW_MAP_FORMATS`](super::SHADOW_MAP_FORMATS),
+    /// with `TEXTURE_BINDING` usage; standard, reversed or infinite depth as the
+    /// [`LightCamera`](crate::uniforms::LightCamera) of each light says. The compare filter reads it directly (any
+    /// size); the ESM filter needs `k x LocalShadowConfig::resolution` texels per side
+    /// (k from 1 to 16) and filters each frame's shadowed spot lights from it into the
+    /// atlas.
+    pub fn set_spot_shadow_maps(
+        &mut self,
+        device: &wgpu::Device,
+        texture: &wgpu::Texture,
+    ) -> Result<(), FogError> {
+        let local = self.local_shadows.as_mut().ok_or_else(local_shadows_off)?;
+        local.set_maps(device, &self.esm, texture, false)?;
+        self.enable_shadowed_inject(device)
+    }
+
+    /// Uses the point lights' cube shadow maps: a 2D depth array of six layers per
+    /// light (a cube or cube-array texture), faces in the order +X, -X, +Y, -Y, +Z, -Z
+    /// as a cube map lays them out ([`LightCamera::cube_face_view`](crate::uniforms::LightCamera::cube_face_view)); otherwise as
+    /// [`VolumetricFog::set_spot_shadow_maps`].
+    pub fn set_point_shadow_maps(
+        &mut self,
+        device: &wgpu::Device,
+        texture: &wgpu::Texture,
+    ) -> Result<(), FogError> {
+        let local = self.local_shadows.as_mut().ok_or_else(local_shadows_off)?;
+        local.set_maps(device, &self.esm, texture, true)?;
+        self.enable_shadowed_inject(device)
+    }
+
+    /// Uses a 2D array of cookies (a filterable float format, e.g. Rgba8Unorm, with
+    /// `TEXTURE_BINDING` usage): a spot light with [`ShadowedLight::cookie`](super::ShadowedLight::cookie) multiplies
+    /// its light by the layer's colour where its camera projects it, sampled linearly
+    /// with clamp to edge (v down), and gives no light outside the camera's frustum.
+    pub fn set_cookies(
+        &mut self,
+        device: &wgpu::Device,
+        texture: &wgpu::Texture,
+    ) -> Result<(), FogError> {
+        let local = self.local_shadows.as_mut().ok_or_else(local_shadows_off)?;
+        check_filterable(texture, device, "the cookies", wgpu::TextureDimension::D2)?;
+        local.set_cookies(texture);
+        self.enable_shadowed_inject(device)
+    }
+
+    /// What the prepared frame's [`ShadowedLight`](super::ShadowedLight)s got: the shadowed lights of each
+    /// kind, those beyond the budget (lit unshadowed) and the atlas layers filled.
+    pub fn local_shadow_stats(&self) -> LocalShadowStats {
+        self.local_shadows
+            .as_ref()
+            .map(|l| l.stats())
+            .unwrap_or_default()
+    }
+
+    /// The local-light ESM atlas once a shadow map array is set (R32Float, one layer
+    /// per spot light, six per point light, filled from layer 0 by each frame); `None`
+    /// with the compare filter, which has none.
+    pub fn local_shadow_atlas(&self) -> Option<&wgpu::Texture> {
+        self.local_shadows.as_ref()?.atlas()
+    }
 }

@@ -223,6 +223,7 @@ pub fn grid_floor(scene: &TruthScene, options: &VolfogOptions) -> Result<GridFlo
                 lighting,
                 cascades: &u.cascades,
                 esm: &[],
+                shadow_taps: &u.shadow_taps,
                 lights,
                 local_volumes: &volumes,
                 options: options_inject,

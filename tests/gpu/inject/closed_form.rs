@@ -7,6 +7,7 @@ use glam::{UVec3, Vec3};
 use volfog::cpu;
 use volfog::cpu::ambient::AmbientSh;
 use volfog::cpu::inject::froxel_world_position;
+use volfog::options::ShadowFilter;
 use volfog::pipeline::{FrameInputs, VolumetricFog};
 use volfog::uniforms::{DirectionalLight, FogMedium, ShadowCascades};
 
@@ -105,12 +106,25 @@ fn homogeneous_sunlit_fog_matches_closed_form() {
 }
 
 /// A slab between the sun and part of the volume: froxels in its shadow keep only the
-/// ambient term (within the ESM leak), froxels outside get sun + ambient, the sun
-/// attenuated by the fog above them; above the fog's top nothing scatters.
+/// ambient term, froxels outside get sun + ambient, the sun attenuated by the fog above
+/// them; above the fog's top nothing scatters. With the ESM the shadow's edge is moved
+/// by the blur and the leak band, so froxels are classified by their centre with
+/// margins for both and 5 % of the sun term is allowed. The compare filter's taps
+/// cover the froxel, so a froxel counts as shadowed or lit when its whole extent (its
+/// eight corners, widened by a shadow-map texel) is, and only fp16 rounding is allowed.
 #[test]
 fn occluder_shadow_drops_inscatter_to_ambient() {
     let gpu = gpu();
-    let config = small_config();
+    for filter in [ShadowFilter::Esm, ShadowFilter::Compare { taps: 1 }] {
+        slab_shadow(gpu, filter);
+    }
+}
+
+fn slab_shadow(gpu: &volfog_testkit::Gpu, filter: ShadowFilter) {
+    let config = volfog::pipeline::FogConfig {
+        shadow_filter: filter,
+        ..small_config()
+    };
     let slab = Slab {
         x: (-22.0, 22.0),
         z: (-60.0, -8.0),
@@ -149,46 +163,79 @@ fn occluder_shadow_drops_inscatter_to_ambient() {
     });
     let u = expected_uniforms(&config, &frame_inputs(0), 0);
     let size = config.volume_size;
+    let esm = !filter.compares();
     // Depth range of the light is 60 m; c = 80 gives a leak band of 3 / 80 * 60 = 2.25 m.
     let leak_margin = 3.0 / config.esm_exponent * 60.0;
+    // The blur spans 11 ESM texels (0.55 m in cascade 0, 1.1 m in cascade 1) plus the
+    // bilinear footprint: 8 m from the edges. A shadow-map texel is at most 0.27 m
+    // (cascade 1: 140 m over 512 texels).
+    let (margin, top_margin) = if esm { (8.0, 0.5) } else { (0.3, 0.0) };
     let (mut shadowed, mut lit, mut worst) = (0, 0, 0.0f32);
     for z in 0..size.z {
         for y in 0..size.y {
             for x in 0..size.x {
-                let (world, _) =
-                    froxel_world_position(&u.froxels, &u.frame, UVec3::new(x, y, z), false);
+                let id = UVec3::new(x, y, z);
+                let (world, _) = froxel_world_position(&u.froxels, &u.frame, id, false);
+                // The points the classification looks at: the centre (ESM) or the
+                // froxel's corners (compare).
+                let points: Vec<Vec3> = if esm {
+                    vec![world]
+                } else {
+                    (0..8)
+                        .map(|k| {
+                            let o = Vec3::new(
+                                if k & 1 == 0 { -0.5 } else { 0.5 },
+                                if k & 2 == 0 { -0.5 } else { 0.5 },
+                                if k & 4 == 0 { -0.5 } else { 0.5 },
+                            );
+                            let f = &u.froxels;
+                            let view = cpu::froxel::froxel_view_position(
+                                id,
+                                o,
+                                f.size,
+                                f.view_from_clip,
+                                f.near,
+                                f.far,
+                                f.curve,
+                            );
+                            u.frame.world_from_view.transform_point3(view)
+                        })
+                        .collect()
+                };
                 let view_dir = (world - u.frame.camera_position).normalize();
                 let fogged = world.y <= medium.top_height;
                 let sigma_s = medium.albedo * if fogged { medium.density } else { 0.0 };
                 let through = (-medium.density * (medium.top_height - world.y).max(0.0)).exp();
                 let sun_term =
                     sun.color * (cpu::phase::phase_hg(view_dir.dot(sun.direction), g) * through);
-                // The blur spans 11 ESM texels (0.55 m in cascade 0, 1.1 m in cascade 1)
-                // plus the bilinear footprint: keep 8 m from the edges.
-                let margin = 8.0;
-                let inside = world.x > slab.x.0 + margin
-                    && world.x < slab.x.1 - margin
-                    && world.z > slab.z.0 + margin
-                    && world.z < slab.z.1 - margin
-                    && world.y < slab.top - leak_margin;
-                let outside = world.x < slab.x.0 - margin
-                    || world.x > slab.x.1 + margin
-                    || world.z < slab.z.0 - margin
-                    || world.z > slab.z.1 + margin
-                    || world.y > slab.top + 0.5;
+                let under = |p: &Vec3| {
+                    p.x > slab.x.0 + margin
+                        && p.x < slab.x.1 - margin
+                        && p.z > slab.z.0 + margin
+                        && p.z < slab.z.1 - margin
+                        && p.y < slab.top - if esm { leak_margin } else { 0.0 }
+                };
+                let clear = |p: &Vec3| {
+                    p.x < slab.x.0 - margin
+                        || p.x > slab.x.1 + margin
+                        || p.z < slab.z.0 - margin
+                        || p.z > slab.z.1 + margin
+                        || p.y > slab.top + top_margin
+                };
                 let got = scattering[index(size, x, y, z)].truncate();
-                let (want, label) = if inside {
+                let (want, label) = if points.iter().all(under) {
                     shadowed += 1;
                     (sigma_s * ambient_radiance, "shadowed")
-                } else if outside {
+                } else if points.iter().all(clear) {
                     lit += 1;
                     (sigma_s * (ambient_radiance + sun_term), "lit")
                 } else {
                     continue;
                 };
                 // Allowed: the ESM leak (5 % of the sun term) plus fp16 rounding.
+                let leak = if esm { 0.05 } else { 0.0 };
                 let tolerance =
-                    0.05 * (sigma_s * sun_term).max_element() + 2e-3 * want.max_element();
+                    leak * (sigma_s * sun_term).max_element() + 2e-3 * want.max_element();
                 let err = (got - want).abs().max_element();
                 if !fogged {
                     assert_eq!(got, Vec3::ZERO, "froxel above the fog's top at {world}");
@@ -197,14 +244,15 @@ fn occluder_shadow_drops_inscatter_to_ambient() {
                 worst = worst.max(err / (sigma_s * sun_term).max_element());
                 assert!(
                     err <= tolerance,
-                    "{label} froxel at {world}: {got} vs {want}"
+                    "{filter:?}: {label} froxel at {world}: {got} vs {want}"
                 );
             }
         }
     }
     eprintln!(
-        "slab occluder: {shadowed} shadowed froxels at the ambient term, {lit} lit; worst deviation {:.2}% of the sun term (bound 5%)",
-        worst * 100.0
+        "slab occluder, {filter:?}: {shadowed} shadowed froxels at the ambient term, {lit} lit; worst deviation {:.2}% of the sun term (bound {})",
+        worst * 100.0,
+        if esm { "5%" } else { "fp16 rounding" }
     );
     assert!(
         shadowed > 200 && lit > 200,

@@ -132,6 +132,7 @@ fn squared_spot_cones_and_directional_lights_match_the_cpu_mirror() {
         lighting: &u.lighting,
         cascades: &u.cascades,
         esm: &[],
+        shadow_taps: &u.shadow_taps,
         lights: &lights,
         local_volumes: &[],
         options: config.inject_options(),

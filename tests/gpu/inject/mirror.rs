@@ -7,18 +7,26 @@ use glam::{UVec3, Vec3};
 use volfog::cpu;
 use volfog::cpu::ambient::AmbientSh;
 use volfog::cpu::inject::{InjectInputs, froxel_scattering, froxel_world_position};
+use volfog::options::ShadowFilter;
 use volfog::pipeline::{FrameInputs, VolumetricFog};
 use volfog::uniforms::{DirectionalLight, FogMedium, ShadowCascades};
 
+/// Both shadow filters: the ESM (linear and log space) and the compare filter (one and
+/// two taps a froxel with history, so four and eight here without a temporal blend,
+/// at jittered and centred samples).
 #[test]
 fn inject_matches_cpu_mirror_for_a_full_scene() {
     let gpu = gpu();
-    for (jitter, two_color, log_space, octaves) in [
-        (true, false, false, 1),
-        (true, true, true, 3),
-        (false, false, false, 2),
+    let esm = ShadowFilter::Esm;
+    for (jitter, two_color, log_space, octaves, filter) in [
+        (true, false, false, 1, esm),
+        (true, true, true, 3, esm),
+        (false, false, false, 2, esm),
+        (true, false, false, 1, ShadowFilter::Compare { taps: 1 }),
+        (false, true, false, 2, ShadowFilter::Compare { taps: 2 }),
     ] {
         let config = volfog::pipeline::FogConfig {
+            shadow_filter: filter,
             jitter,
             two_color_phase: two_color,
             esm_log_space: log_space,
@@ -59,6 +67,12 @@ fn inject_matches_cpu_mirror_for_a_full_scene() {
             }
         });
         let (scattering, esm_layers) = captured.unwrap();
+        // The compare filter reads the shadow map itself.
+        let esm_layers = if filter.compares() {
+            depth_layers.clone()
+        } else {
+            esm_layers
+        };
         let u = expected_uniforms(&config, &frame_inputs(2), 2);
         let inputs = InjectInputs {
             froxels: &u.froxels,
@@ -67,6 +81,7 @@ fn inject_matches_cpu_mirror_for_a_full_scene() {
             lighting: &u.lighting,
             cascades: &u.cascades,
             esm: &esm_layers,
+            shadow_taps: &u.shadow_taps,
             lights: &lights,
             local_volumes: &volumes,
             options: config.inject_options(),
@@ -93,15 +108,25 @@ fn inject_matches_cpu_mirror_for_a_full_scene() {
                     worst = worst.max(e);
                     let (world, depth) =
                         froxel_world_position(&u.froxels, &u.frame, UVec3::new(x, y, z), jitter);
-                    if cpu::esm::esm_shadow(&esm_layers, &u.cascades, world, depth, log_space) < 0.5
-                    {
+                    let lit = if filter.compares() {
+                        let c = cpu::esm::esm_cascade(depth, u.cascades.splits, u.cascades.count);
+                        cpu::shadow::shadow_cascade_compare(
+                            &esm_layers[c as usize],
+                            u.cascades.light_from_world[c as usize],
+                            world,
+                            false,
+                        )
+                    } else {
+                        cpu::esm::esm_shadow(&esm_layers, &u.cascades, world, depth, log_space)
+                    };
+                    if lit < 0.5 {
                         shadowed += 1;
                     }
                 }
             }
         }
         eprintln!(
-            "inject jitter={jitter} two_color={two_color} log_space={log_space} octaves={octaves}: worst relative error vs CPU {worst:e} (bound 4e-3), {shadowed} shadowed froxels"
+            "inject {filter:?} jitter={jitter} two_color={two_color} log_space={log_space} octaves={octaves}: worst relative error vs CPU {worst:e} (bound 4e-3), {shadowed} shadowed froxels"
         );
         assert!(shadowed > 100, "the slab shadows part of the volume");
         assert!(worst <= 4e-3, "{worst}");
@@ -151,6 +176,7 @@ fn density_texture_variant_matches_cpu_mirror() {
         lighting: &u.lighting,
         cascades: &u.cascades,
         esm: &[],
+        shadow_taps: &u.shadow_taps,
         lights: &[],
         local_volumes: &[],
         options: config.inject_options(),

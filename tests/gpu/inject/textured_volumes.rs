@@ -108,6 +108,7 @@ fn textured_local_volumes_match_the_cpu_mirror_and_a_constant_texture_scales_the
         lighting: &u.lighting,
         cascades: &u.cascades,
         esm: &[],
+        shadow_taps: &u.shadow_taps,
         lights: &[],
         local_volumes: &volumes,
         options: config.inject_options(),

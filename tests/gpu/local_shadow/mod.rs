@@ -24,6 +24,7 @@ use volfog::cpu::esm::{Layer, blur};
 use volfog::cpu::fog_volume::ray_unit_box;
 use volfog::cpu::inject::{InjectInputs, LocalShadowInputs, froxel_scattering};
 use volfog::cpu::local_shadow::{ColorLayer, downsample};
+use volfog::options::ShadowFilter;
 use volfog::pipeline::{FogConfig, FrameInputs, LocalShadowConfig, ShadowedLight, VolumetricFog};
 use volfog::uniforms::{
     DirectionalLight, FogLight, FogMedium, LOCAL_SHADOW_NONE, LightCamera, LightProjection,
@@ -214,8 +215,10 @@ pub(super) fn read_atlas(fog: &VolumetricFog) -> Vec<Layer> {
 
 /// The configuration of these tests: a small volume, no jitter, no temporal
 /// reprojection (the scattering volume is inject's output), no culling.
+/// The configuration of the scenes with the ESM filter (the atlas).
 pub(super) fn config(local: LocalShadowConfig, log_space: bool) -> FogConfig {
     FogConfig {
+        shadow_filter: ShadowFilter::Esm,
         volume_size: UVec3::new(48, 27, 64),
         near: 0.5,
         far: 24.0,
@@ -230,6 +233,16 @@ pub(super) fn config(local: LocalShadowConfig, log_space: bool) -> FogConfig {
         depth_cull: false,
         local_shadows: Some(local),
         ..FogConfig::default()
+    }
+}
+
+/// The configuration of the scenes with the compare filter of `taps` taps (four times
+/// as many per froxel, as there is no temporal blend) and jittered taps.
+pub(super) fn compare_config(local: LocalShadowConfig, taps: u32) -> FogConfig {
+    FogConfig {
+        shadow_filter: ShadowFilter::Compare { taps },
+        jitter: true,
+        ..config(local, false)
     }
 }
 
@@ -291,9 +304,19 @@ pub(super) fn run(fog: &mut VolumetricFog, inputs: &FrameInputs<'_>) -> Vec<Vec4
     out
 }
 
-/// The CPU atlas of a frame: each shadowed light's maps downsampled and blurred as the
-/// passes do, layers handed out from 0 in the order of `shadowed` within the budget.
-/// Returns the atlas and the projections (what `VolumetricFog::prepare` should build).
+/// What the CPU mirror reads of the lights' shadows: the atlas (the ESM filter) or the
+/// depth maps themselves (the compare filter).
+pub(super) struct CpuShadows {
+    pub(super) atlas: Vec<Layer>,
+    pub(super) spot: Vec<Layer>,
+    pub(super) point: Vec<Layer>,
+}
+
+/// The CPU shadows of a frame. With the ESM filter each shadowed light's maps are
+/// downsampled and blurred as the passes do, atlas layers handed out from 0 in the
+/// order of `shadowed` within the budget; with the compare filter the maps are read
+/// as they are, a light's projection pointing at its own map. Returns them with the
+/// projections (what `VolumetricFog::prepare` should build).
 pub(super) fn cpu_atlas(
     config: &FogConfig,
     lights: &[FogLight],
@@ -301,8 +324,18 @@ pub(super) fn cpu_atlas(
     spot_maps: &[Vec<f32>],
     point_maps: &[Vec<f32>],
     map_size: u32,
-) -> (Vec<Layer>, Vec<LightProjection>) {
+) -> (CpuShadows, Vec<LightProjection>) {
     let local = config.local_shadows.expect("local shadows");
+    let compare = config.shadow_filter.compares();
+    let layers = |maps: &[Vec<f32>]| -> Vec<Layer> {
+        maps.iter()
+            .map(|texels| Layer {
+                width: map_size,
+                height: map_size,
+                texels: texels.clone(),
+            })
+            .collect()
+    };
     let log_space = config.esm_log_space;
     let radius = config.esm_blur_radius as i32;
     let (mut atlas, mut projections) = (Vec::new(), Vec::new());
@@ -317,7 +350,15 @@ pub(super) fn cpu_atlas(
                 spots < local.spot_shadows
             };
         let mut layer = LOCAL_SHADOW_NONE;
-        if granted {
+        if granted && compare {
+            let per_map = if point { 6 } else { 1 };
+            layer = per_map * s.shadow.unwrap();
+            if point {
+                points += 1;
+            } else {
+                spots += 1;
+            }
+        } else if granted {
             layer = atlas.len() as u32;
             let map = s.shadow.unwrap() as usize;
             let faces: Vec<&Vec<f32>> = if point {
@@ -360,14 +401,27 @@ pub(super) fn cpu_atlas(
             .unwrap(),
         );
     }
-    (atlas, projections)
+    let shadows = CpuShadows {
+        atlas,
+        spot: if compare {
+            layers(spot_maps)
+        } else {
+            Vec::new()
+        },
+        point: if compare {
+            layers(point_maps)
+        } else {
+            Vec::new()
+        },
+    };
+    (shadows, projections)
 }
 
 /// The CPU mirror of a frame's scattering volume.
 pub(super) fn cpu_volume(
     config: &FogConfig,
     inputs: &FrameInputs<'_>,
-    atlas: &[Layer],
+    shadows: &CpuShadows,
     projections: &[LightProjection],
     cookies: &[ColorLayer],
 ) -> Vec<Vec4> {
@@ -386,6 +440,7 @@ pub(super) fn cpu_volume(
         lighting: &u.lighting,
         cascades: &u.cascades,
         esm: &[],
+        shadow_taps: &u.shadow_taps,
         lights: &lights,
         local_volumes: inputs.local_volumes,
         options: config.inject_options(),
@@ -394,7 +449,9 @@ pub(super) fn cpu_volume(
         clouds: None,
         local_shadows: Some(LocalShadowInputs {
             projections,
-            atlas,
+            atlas: &shadows.atlas,
+            spot_maps: &shadows.spot,
+            point_maps: &shadows.point,
             cookies,
         }),
     };

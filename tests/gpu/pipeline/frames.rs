@@ -98,6 +98,7 @@ fn reconfigure_keeps_what_the_user_set() {
     let err = fog.reconfigure(
         &gpu.device,
         &FogConfig {
+            shadow_filter: volfog::options::ShadowFilter::Esm,
             esm_resolution: 256,
             ..config.clone()
         },

@@ -3,10 +3,12 @@
 
 use crate::common::gpu;
 use crate::common::scene::{overhead_sun, projection, shadow_map, small_config, view};
+use volfog::options::ShadowFilter;
 use volfog::pipeline::{FogConfig, FogError, FrameInputs, VolumetricFog};
 
 /// Shadow maps are checked against the configuration (size, layers, format, usage),
-/// and frames with cascades need one.
+/// and frames with cascades need one. The compare filter (the default) reads any
+/// square map; the ESM needs 4x its resolution.
 #[test]
 fn shadow_maps_are_checked_against_the_cascades() {
     let gpu = gpu();
@@ -27,7 +29,7 @@ fn shadow_maps_are_checked_against_the_cascades() {
             label: Some("shadow map"),
             size: wgpu::Extent3d {
                 width: size,
-                height: size,
+                height: size / 2 * 2,
                 depth_or_array_layers: layers,
             },
             mip_level_count: 1,
@@ -41,7 +43,7 @@ fn shadow_maps_are_checked_against_the_cascades() {
     let depth = wgpu::TextureFormat::Depth32Float;
     let binding = wgpu::TextureUsages::TEXTURE_BINDING;
     for (bad, property) in [
-        (texture(side / 2, 2, depth, binding), "size"),
+        (texture(side + 1, 2, depth, binding), "size"),
         (texture(side, 1, depth, binding), "layer count"),
         (
             texture(side, 2, wgpu::TextureFormat::Rgba8Unorm, binding),
@@ -56,6 +58,21 @@ fn shadow_maps_are_checked_against_the_cascades() {
             Err(FogError::Texture { property: p, .. }) => assert_eq!(p, property),
             other => panic!("{property}: expected a texture error, got {other:?}"),
         }
+    }
+    // Any square size suits the compare filter; the ESM wants 4x its resolution.
+    fog.set_shadow_map(&gpu.device, &texture(side / 2, 2, depth, binding))
+        .unwrap();
+    let mut esm = VolumetricFog::new(
+        &gpu.device,
+        &FogConfig {
+            shadow_filter: ShadowFilter::Esm,
+            ..config.clone()
+        },
+    )
+    .unwrap();
+    match esm.set_shadow_map(&gpu.device, &texture(side / 2, 2, depth, binding)) {
+        Err(FogError::Texture { property: p, .. }) => assert_eq!(p, "size"),
+        other => panic!("ESM size: expected a texture error, got {other:?}"),
     }
     fog.set_shadow_map(&gpu.device, &shadow_map(gpu, &layers))
         .unwrap();
