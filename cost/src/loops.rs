@@ -277,7 +277,11 @@ fn unshare_block(module: &mut Module, f: FunctionRef, seen: &mut Vec<Handle<Func
 
 type Call = (Handle<Function>, Option<Handle<Expression>>);
 /// A call redirected: its callee, the function it calls now, its result expression.
-type Redirect = (Handle<Function>, Handle<Function>, Option<Handle<Expression>>);
+type Redirect = (
+    Handle<Function>,
+    Handle<Function>,
+    Option<Handle<Expression>>,
+);
 
 fn collect_calls(block: &Block, calls: &mut Vec<Call>) {
     for s in block.iter() {
@@ -306,11 +310,7 @@ fn collect_calls(block: &Block, calls: &mut Vec<Call>) {
     }
 }
 
-fn redirect_calls(
-    block: &mut Block,
-    redirects: &[Redirect],
-    next: &mut usize,
-) {
+fn redirect_calls(block: &mut Block, redirects: &[Redirect], next: &mut usize) {
     for s in block.iter_mut() {
         match s {
             Statement::Call { function, .. } => {
