@@ -25,8 +25,21 @@ fn cookie_texels() -> Vec<u8> {
     texels
 }
 
+/// Under both shadow filters (their inject variants bind different shadow textures
+/// beside the same cookies).
 #[test]
 fn a_striped_cookie_lights_the_fog_in_stripes() {
+    let esm = config(LocalShadowConfig::default(), false);
+    let compare = FogConfig {
+        jitter: false,
+        ..compare_config(LocalShadowConfig::default(), 1)
+    };
+    for config in [compare, esm] {
+        striped_cookie(&config);
+    }
+}
+
+fn striped_cookie(config: &FogConfig) {
     let gpu = gpu();
     let texels = cookie_texels();
     let texture = gpu.device.create_texture_with_data(
@@ -59,7 +72,6 @@ fn a_striped_cookie_lights_the_fog_in_stripes() {
                 .collect(),
         })
         .collect();
-    let config = config(LocalShadowConfig::default(), false);
     let spot = FogLight::spot(
         Vec3::new(0.0, 4.0, -4.0),
         Vec3::new(0.0, -0.3, -1.0).normalize(),
@@ -69,7 +81,7 @@ fn a_striped_cookie_lights_the_fog_in_stripes() {
         0.55,
     );
     let cam = LightCamera::spot(&spot, 0.1).unwrap();
-    let mut fog = VolumetricFog::new(&gpu.device, &config).unwrap();
+    let mut fog = VolumetricFog::new(&gpu.device, config).unwrap();
     fog.set_cookies(&gpu.device, &texture).unwrap();
     let lights = [spot];
     let shadowed = [ShadowedLight::new(0, cam).with_cookie(1)];
@@ -81,8 +93,8 @@ fn a_striped_cookie_lights_the_fog_in_stripes() {
         &[],
     );
     let got = run(&mut fog, &frame);
-    let (atlas, projections) = cpu_atlas(&config, &lights, &shadowed, &[], &[], 1);
-    let want = cpu_volume(&config, &frame, &atlas, &projections, &cookies);
+    let (atlas, projections) = cpu_atlas(config, &lights, &shadowed, &[], &[], 1);
+    let want = cpu_volume(config, &frame, &atlas, &projections, &cookies);
     let plain: Vec<LightProjection> = projections
         .iter()
         .map(|p| LightProjection {
@@ -90,7 +102,7 @@ fn a_striped_cookie_lights_the_fog_in_stripes() {
             ..*p
         })
         .collect();
-    let uncookied = cpu_volume(&config, &frame, &atlas, &plain, &[]);
+    let uncookied = cpu_volume(config, &frame, &atlas, &plain, &[]);
     let mirror = worst_relative(&got, &want, 1e-2);
 
     let p = projections[0];
@@ -98,7 +110,7 @@ fn a_striped_cookie_lights_the_fog_in_stripes() {
     for ((g, u), world) in got
         .iter()
         .zip(&uncookied)
-        .zip(froxel_positions(&config, &frame))
+        .zip(froxel_positions(config, &frame))
     {
         let light = u.truncate();
         if light.max_element() < 1e-3 {
@@ -121,10 +133,10 @@ fn a_striped_cookie_lights_the_fog_in_stripes() {
         counts[stripe] += 1;
     }
     eprintln!(
-        "striped cookie: inject vs CPU {mirror:.2e} (relative, bound 1e-2); {} froxels in white \
+        "striped cookie, {:?}: inject vs CPU {mirror:.2e} (relative, bound 1e-2); {} froxels in white \
          and {} in blue-green stripe centres, their light / the uncookied light within {worst:.2e} \
          of the stripe's colour (bound 1e-2)",
-        counts[0], counts[1]
+        config.shadow_filter, counts[0], counts[1]
     );
     assert!(mirror <= 1e-2, "{mirror}");
     assert!(counts[0] > 200 && counts[1] > 200, "{counts:?}");
