@@ -19,13 +19,14 @@ use crate::demo::{DemoArgs, DemoError};
 /// Texels per side of the lamp's cube shadow map, per atlas texel.
 const LAMP_SHADOW_FACTOR: u32 = 2;
 
-/// The fog configuration of the demo. The ESM is 512 texels per cascade with a
-/// 3-tap blur: an exponential shadow map erodes occluders by its filter footprint
-/// (any unoccluded texel far behind the receiver dominates the filtered exponential),
-/// and the pillars must keep their shadows in the farther cascades. Log-space
-/// filtering allows the exponent of 200 (a leak band of 1.5 % of a cascade's depth
-/// range). The lamp's cube shadow map is filtered into a local-light atlas of 256
-/// texels per face (one shadowed point light), exponent 200 in log space as well.
+/// The fog configuration of the demo. The fog reads the sun's shadow map (2048 texels
+/// per cascade) and the lamp's cube shadow map (512 texels per face) through the
+/// compare filter, the default, so the shafts through the doorway and the arch keep
+/// the occluders' edges. The ESM settings are those the demo would take with
+/// `ShadowFilter::Esm`: 512 texels per cascade with a 3-tap blur (an exponential
+/// shadow map erodes occluders by its filter footprint, and the pillars must keep
+/// their shadows in the farther cascades), exponent 200 in log space (a leak band of
+/// 1.5 % of a cascade's depth range), the lamp's atlas 256 texels per face.
 pub(crate) fn fog_config(args: &DemoArgs, timestamps: bool) -> FogConfig {
     FogConfig {
         volume_size: args.volume,

@@ -205,8 +205,8 @@ impl Renderer {
         })
     }
 
-    /// The cascaded shadow map (Depth32Float, a layer per cascade), as the fog's ESM
-    /// passes read it.
+    /// The cascaded shadow map (Depth32Float, a layer per cascade), as the fog's compare
+    /// filter (or its ESM passes) read it.
     pub fn shadow_map(&self) -> &wgpu::Texture {
         &self.shadow_map
     }

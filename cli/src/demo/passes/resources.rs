@@ -90,12 +90,13 @@ impl Resources {
             wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
         );
         let shadow_size = config.esm_resolution * 4;
+        // Readable for the probe files.
         let (shadow_map, shadow_layers, shadow_array) = layered_depth(
             device,
             "demo shadow map",
             shadow_size,
             config.cascades,
-            attachment,
+            attachment | wgpu::TextureUsages::COPY_SRC,
         );
         // The lamp's cube shadow map: six layers, faces +X, -X, +Y, -Y, +Z, -Z.
         let (lamp_map, lamp_faces, lamp_array) =

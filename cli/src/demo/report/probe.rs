@@ -1,5 +1,5 @@
-//! The probe files (`--probe`): linear float images, the depth buffer, the ESM, the
-//! lamp's shadow atlas and the integrated volume of the last frame with `probe.json`, and the images of the
+//! The probe files (`--probe`): linear float images, the depth buffer, the sun's
+//! shadow map (or, with the ESM filter, its ESM and the lamp's shadow atlas) and the integrated volume of the last frame with `probe.json`, and the images of the
 //! camera under water with `underwater.json`.
 
 use serde_json::json;
@@ -113,6 +113,8 @@ pub fn write_probe(
         Some(t) => gpu.read_texture_raw(t, 4)?,
         None => Vec::new(),
     };
+    // The sun's shadow map as the compare filter reads it (Depth32Float).
+    let sun_shadow_raw = gpu.read_texture_raw(renderer.shadow_map(), 4)?;
     let esm_raw = gpu.read_texture_raw(fog.esm_texture(), 4)?;
     let esm: &[f32] = bytemuck::cast_slice(&esm_raw);
     let (esm_min, esm_max) = esm
@@ -133,7 +135,11 @@ pub fn write_probe(
         ("depth.f32", depth),
         ("integrated.f32", flat(&integrated)),
         ("esm.f32", esm.to_vec()),
-        ("lamp_atlas.f32", bytemuck::cast_slice(&atlas_raw).to_vec()),
+        (
+            "sun_shadow.f32",
+            bytemuck::pod_collect_to_vec(&sun_shadow_raw),
+        ),
+        ("lamp_atlas.f32", bytemuck::pod_collect_to_vec(&atlas_raw)),
     ] {
         write_f32(&dir.join(name), &data)?;
     }
@@ -169,7 +175,8 @@ pub fn write_probe(
             "inscatter": "inscatter.f32: every surface and the sky black, then the fog applied: the in-scattered radiance",
             "water": "water.f32: every surface and the sky black, before the fog: the pool's underwater in-scattering",
             "integrated": "integrated.f32: the integrated froxel volume (rgb in-scatter, a transmittance), x fastest, then y, then z",
-            "esm": "esm.f32: the filtered ESM, one esm_resolution^2 layer per cascade",
+            "esm": "esm.f32: the filtered ESM, one esm_resolution^2 layer per cascade (1 x 1 with the compare filter)",
+            "sun_shadow": "sun_shadow.f32: the sun's shadow map (standard depth), one sun_shadow_size^2 layer per cascade",
             "lamp_atlas": "lamp_atlas.f32: the local-light ESM atlas, one resolution^2 layer per cube face of the lamp (+X, -X, +Y, -Y, +Z, -Z)",
         },
         "camera": {
@@ -208,6 +215,8 @@ pub fn write_probe(
             "esm_min": esm_min,
             "esm_max": esm_max,
             "esm_resolution": fog.config().esm_resolution,
+            "shadow_filter": format!("{:?}", fog.config().shadow_filter),
+            "sun_shadow_size": renderer.shadow_map().width(),
             "esm_log_space": fog.config().esm_log_space,
             "live_fraction": volfog_testkit::scene::live_fraction(gpu, fog)?,
         },

@@ -3,6 +3,7 @@
 
 use glam::{Vec3, Vec4};
 use volfog::cpu::esm::{self, Layer};
+use volfog::cpu::shadow;
 use volfog::uniforms::ShadowCascades;
 
 use super::{HEIGHT, Run, Volume, WIDTH, mat, median, num, read_f32, read_rgba, run, sum3, vec3};
@@ -131,8 +132,39 @@ fn ground_recedes_into_fog() {
     assert!(s_far > s_near + 0.1, "{s_near} -> {s_far}");
 }
 
-/// The fog's shadow inputs as the probe recorded them: cascades and ESM layers.
-pub(super) fn shadow_inputs(run: &Run) -> (ShadowCascades, Vec<Layer>, bool) {
+/// The sun's shadow in the fog as the probe recorded it: the cascades and the layers
+/// the fog's filter reads (the shadow map itself for the compare filter, the ESM for
+/// the ESM filter).
+pub(super) struct SunShadow {
+    cascades: ShadowCascades,
+    layers: Vec<Layer>,
+    compare: bool,
+    log_space: bool,
+}
+
+impl SunShadow {
+    /// The sun's visibility the fog's filter gives one point (one compare tap, or the
+    /// ESM look-up).
+    pub(super) fn visibility(&self, world: Vec3, view_depth: f32) -> f32 {
+        let c = &self.cascades;
+        if !self.compare {
+            return esm::esm_shadow(&self.layers, c, world, view_depth, self.log_space);
+        }
+        let i = esm::esm_cascade(view_depth, c.splits, c.count);
+        if i >= c.count {
+            return 1.0;
+        }
+        shadow::shadow_cascade_compare(
+            &self.layers[i as usize],
+            c.light_from_world[i as usize],
+            world,
+            false,
+        )
+    }
+}
+
+/// The fog's shadow inputs as the probe recorded them.
+pub(super) fn shadow_inputs(run: &Run) -> SunShadow {
     let c = &run.probe["cascades"];
     let mut cascades = ShadowCascades {
         splits: Vec4::from_slice(
@@ -150,10 +182,22 @@ pub(super) fn shadow_inputs(run: &Run) -> (ShadowCascades, Vec<Layer>, bool) {
     for (i, m) in c["light_from_world"].as_array().unwrap().iter().enumerate() {
         cascades.light_from_world[i] = mat(m);
     }
-    let n = run.probe["fog"]["esm_resolution"].as_u64().unwrap() as u32;
-    let esm = read_f32(run, "esm.f32");
-    assert_eq!(esm.len(), (n * n * cascades.count) as usize);
-    let layers = esm
+    let fog = &run.probe["fog"];
+    let compare = fog["shadow_filter"]
+        .as_str()
+        .unwrap()
+        .starts_with("Compare");
+    let (n, file) = if compare {
+        (
+            fog["sun_shadow_size"].as_u64().unwrap() as u32,
+            "sun_shadow.f32",
+        )
+    } else {
+        (fog["esm_resolution"].as_u64().unwrap() as u32, "esm.f32")
+    };
+    let texels = read_f32(run, file);
+    assert_eq!(texels.len(), (n * n * cascades.count) as usize);
+    let layers = texels
         .chunks_exact((n * n) as usize)
         .map(|c| Layer {
             width: n,
@@ -161,15 +205,20 @@ pub(super) fn shadow_inputs(run: &Run) -> (ShadowCascades, Vec<Layer>, bool) {
             texels: c.to_vec(),
         })
         .collect();
-    (cascades, layers, run.probe["fog"]["esm_log_space"] == true)
+    SunShadow {
+        cascades,
+        layers,
+        compare,
+        log_space: fog["esm_log_space"] == true,
+    }
 }
 
-/// The filtered ESM the fog uses agrees with the demo's own shadow test of the
-/// ground (3x3 PCF on the raw shadow map): the shadows reach the fog where they are.
+/// The fog's shadow filter agrees with the demo's own shadow test of the ground (3x3
+/// PCF on the raw shadow map): the shadows reach the fog where they are.
 #[test]
 fn fog_shadow_map_matches_the_ground_shadows() {
     let run = run();
-    let (cascades, layers, log_space) = shadow_inputs(run);
+    let sun = shadow_inputs(run);
     let view_from_world = mat(&run.probe["camera"]["view_from_world"]);
     let (mut agree, mut total, mut shadowed) = (0, 0, 0);
     for p in ground_pixels(run) {
@@ -179,14 +228,14 @@ fn fog_shadow_map_matches_the_ground_shadows() {
         // Just above the ground, which is itself in the shadow map.
         let world = p.world + Vec3::Y * 0.3;
         let depth = -view_from_world.transform_point3(world).z;
-        let v = esm::esm_shadow(&layers, &cascades, world, depth, log_space);
+        let v = sun.visibility(world, depth);
         total += 1;
         shadowed += usize::from(p.sun < 0.05);
         agree += usize::from((v > 0.5) == (p.sun > 0.5));
     }
     let share = agree as f32 / total as f32;
     eprintln!(
-        "ESM vs ground shadow test: {:.1}% of {total} ground pixels agree ({shadowed} in shadow; bound 85%)",
+        "fog's shadow filter vs ground shadow test: {:.1}% of {total} ground pixels agree ({shadowed} in shadow; bound 85%)",
         share * 100.0
     );
     assert!(shadowed >= 100 && total - shadowed >= 100);
@@ -205,7 +254,7 @@ fn fog_shows_light_shafts() {
     let run = run();
     let volume = Volume::read(run);
     let size = volume.size;
-    let (cascades, layers, log_space) = shadow_inputs(run);
+    let sun = shadow_inputs(run);
     let (mut ratios, mut lit_count, mut shadow_count) = (Vec::new(), 0, 0);
     for z in 1..size.z {
         // (sun visibility, J) of every froxel of this slice with enough extinction.
@@ -217,7 +266,7 @@ fn fog_shows_light_shafts() {
                     .scattered(x, y, z)
                     .filter(|_| (3.0..13.0).contains(&depth))
                     .map(|j| {
-                        let v = esm::esm_shadow(&layers, &cascades, world, depth, log_space);
+                        let v = sun.visibility(world, depth);
                         (v, j)
                     });
             }

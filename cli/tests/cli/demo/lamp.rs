@@ -8,16 +8,15 @@
 
 use glam::Vec3;
 use serde_json::Value;
-use volfog::cpu::esm;
 
 use super::fog::shadow_inputs;
 use super::{Run, Volume, median, num, run, vec3};
 
 /// How far inside the doorway's edges (or outside them, for the wall's shadow) a
 /// froxel's segment to the lamp must pass (m at the wall): a froxel spans about
-/// 0.15 m across and up to a metre along the view ray, which seen from the lamp
-/// covers up to 0.2 m at the wall, and the atlas filter (3 texels of 256 per face at
-/// 3.7 m) another 0.1 m.
+/// 0.15 m across and up to a metre along the view ray (its shadow taps cover all of
+/// it), which seen from the lamp covers up to 0.2 m at the wall, and the compare
+/// filter's 2 x 2 texels of the 512-texel faces at 3.7 m another 0.02 m.
 const MARGIN: f32 = 0.3;
 
 /// The lamp's wall, doorway and yard as the probe recorded them.
@@ -113,7 +112,7 @@ struct Froxel {
 fn froxels(run: &Run, lamp: &Lamp) -> Vec<Vec<Option<Froxel>>> {
     let volume = Volume::read(run);
     let size = volume.size;
-    let (cascades, layers, log_space) = shadow_inputs(run);
+    let sun = shadow_inputs(run);
     let mut rows = Vec::new();
     for z in 1..size.z {
         for y in 0..size.y {
@@ -128,7 +127,7 @@ fn froxels(run: &Run, lamp: &Lamp) -> Vec<Vec<Option<Froxel>>> {
                     Some(Froxel {
                         side,
                         j,
-                        sun: esm::esm_shadow(&layers, &cascades, world, depth, log_space),
+                        sun: sun.visibility(world, depth),
                     })
                 })
                 .collect();
