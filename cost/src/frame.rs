@@ -44,18 +44,27 @@ impl RuntimeVariant {
 /// entry points is a compute pipeline, each fragment entry point a draw.
 pub fn runtime_variants(config: &FogConfig) -> Vec<RuntimeVariant> {
     let esm = config.esm_options();
-    let mut v = vec![
-        RuntimeVariant::new("esm_downsample", esm.downsample_defines(), "every frame"),
-        RuntimeVariant::new("esm_blur", esm.blur_defines(), "every frame"),
-        RuntimeVariant::new(
-            "inject",
-            InjectOptions {
-                local_shadows: false,
-                ..config.inject_options()
-            }
-            .defines(),
+    let plain_inject = InjectOptions {
+        local_shadows: false,
+        ..config.inject_options()
+    }
+    .defines();
+    // With the compare filter the ESM passes are built but do not run.
+    let (esm_when, atlas_when) = if plain_inject.iter().any(|d| d == SHADOW_COMPARE_DEFINE) {
+        (
+            "built, not run: the compare filter reads the shadow map in inject",
+            "built, not run: the compare filter reads the lights' maps in inject",
+        )
+    } else {
+        (
             "every frame",
-        ),
+            "frames whose shadowed lights have new depth maps",
+        )
+    };
+    let mut v = vec![
+        RuntimeVariant::new("esm_downsample", esm.downsample_defines(), esm_when),
+        RuntimeVariant::new("esm_blur", esm.blur_defines(), esm_when),
+        RuntimeVariant::new("inject", plain_inject, "every frame"),
     ];
     if config.local_shadows.is_some() {
         v.push(RuntimeVariant::new(
@@ -66,7 +75,7 @@ pub fn runtime_variants(config: &FogConfig) -> Vec<RuntimeVariant> {
         v.push(RuntimeVariant::new(
             "local_shadow_downsample",
             LocalShadowPass::defines(config.esm_log_space),
-            "frames whose shadowed lights have new depth maps",
+            atlas_when,
         ));
     }
     if config.depth_cull {
@@ -360,5 +369,68 @@ mod tests {
         assert!(names.contains(&"temporal@default".to_string()), "{names:?}");
         assert!(!names.iter().any(|n| n.starts_with("froxel_cull")));
         assert_eq!(names.iter().filter(|n| n.starts_with("inject@")).count(), 1);
+    }
+
+    #[test]
+    fn a_frame_runs_the_esm_passes_only_with_the_esm_filter() {
+        let work = Workload {
+            grid: [160, 90, 64],
+            screen: (1920, 1080),
+            far_tail: false,
+            blocks: (100, 200),
+            live_fraction: 0.5,
+            lights: 8,
+            local_volumes: 1,
+            light_gather: 0.5,
+            volume_gather: 0.5,
+            lights_per_block: 1.0,
+            shadowed_per_block: 0.0,
+            volumes_per_block: 0.25,
+            cascade_steps: 1.0,
+            extra_shadow_taps: 0.0,
+            scan_live: 40.0,
+            scan_rest: 24.0,
+            compact_blocks: 5.0,
+            cell_texels: (7.0, 7.0),
+        };
+        let names = |p: &[FramePass]| p.iter().map(|p| p.name.clone()).collect::<Vec<_>>();
+        let compare = frame_passes(&FogConfig::default(), &work);
+        assert_eq!(
+            names(&compare),
+            [
+                "cull: cells",
+                "cull: columns",
+                "cull: blocks",
+                "inject",
+                "scan",
+                "apply"
+            ]
+        );
+        let inject = &compare[3];
+        // The live blocks, 128 invocations each; the volume traffic is the live share.
+        assert_eq!(inject.invocations, 100.0 * 128.0);
+        assert!(inject.culled);
+        assert!(
+            inject
+                .trips
+                .iter()
+                .any(|(k, n)| k == "froxel_scattering: i < tile_light_count" && *n == 1.0)
+        );
+        let apply = &compare[5];
+        assert!(apply.variant.defines.iter().any(|d| d == NO_TAIL_DEFINE));
+        assert_eq!(apply.invocations, 1920.0 * 1080.0);
+        let esm = FogConfig {
+            shadow_filter: volfog::options::ShadowFilter::Esm,
+            ..FogConfig::default()
+        };
+        let with_esm = frame_passes(&esm, &work);
+        assert_eq!(
+            names(&with_esm)[..3],
+            ["ESM downsample", "ESM blur x", "ESM blur y"]
+        );
+        // One invocation per ESM texel of each cascade; the blur loads its segment and
+        // 5 texels either side in two rounds of 64.
+        assert_eq!(with_esm[0].invocations, 256.0 * 256.0 * 4.0);
+        assert_eq!(with_esm[1].trips, [("blur: i < ".to_string(), 2.0)]);
     }
 }

@@ -5,6 +5,7 @@
 use glam::{UVec3, Vec3};
 use volfog::cpu::esm::esm_cascade;
 use volfog::cpu::froxel::{live_slices_from_depth, ndc_from_uv, view_from_ndc};
+use volfog::options::ShadowFilter;
 use volfog::pipeline::{FogConfig, cascade_splits};
 use volfog::uniforms::Froxels;
 use volfog_codegen::manifest::{FOG_BLEND, RenderState};
@@ -100,8 +101,12 @@ pub fn workload(
         live_slices: config.depth_cull.then_some(live.as_slice()),
         screen: SCREEN,
         far_tail: false,
-        // One compare per froxel with history: the compare filter's default.
-        shadow_taps: 1,
+        // The compare filter's taps per froxel with history (the camera stands still,
+        // so every froxel has one); the ESM reads one value.
+        shadow_taps: match config.shadow_filter {
+            ShadowFilter::Compare { taps } => taps,
+            ShadowFilter::Esm => 1,
+        },
     };
     Ok(Workload::of(&frame, if config.amortize { 64 } else { 128 }))
 }
