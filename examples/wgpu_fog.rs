@@ -98,7 +98,7 @@ fn shadowed_frame(gpu: &Gpu) -> Result {
 
     // once:
     let mut fog = VolumetricFog::new(&device, &FogConfig::default())?;   // 160x90x128, 4 cascades
-    fog.set_shadow_map(&device, &sun_cascade_depth_array)?;   // checked: 4 * esm_resolution, a layer per cascade
+    fog.set_shadow_map(&device, &sun_cascade_depth_array)?;   // checked: square, a layer per cascade
     fog.set_scene_depth(&device, &scene_depth_texture, 0)?;   // skip froxels behind opaque surfaces
     let apply = fog.create_apply(&device, wgpu::TextureFormat::Rgba16Float)?;  // one per colour format
     let depth_group = apply.depth_bind_group(&device, &scene_depth_view);     // one per depth texture
@@ -162,8 +162,8 @@ fn shadowed_lamps(gpu: &Gpu) -> Result {
     use volfog::uniforms::LightCamera;
 
     // once: the lamps' depth maps as your renderer draws them (any perspective depth)
-    let mut fog = VolumetricFog::new(&device, &FogConfig::default())?;  // 4 spot + 2 point shadows, 256² maps
-    fog.set_spot_shadow_maps(&device, &spot_depth_array)?;    // a layer per spot light, k x 256 texels
+    let mut fog = VolumetricFog::new(&device, &FogConfig::default())?;  // 4 spot + 2 point shadows
+    fog.set_spot_shadow_maps(&device, &spot_depth_array)?;    // a layer per spot light, square
     fog.set_point_shadow_maps(&device, &cube_depth_array)?;   // six layers (+X, -X, +Y, -Y, +Z, -Z) a light
     fog.set_cookies(&device, &cookie_array)?;                 // optional: what spot lights project
     // every frame:
@@ -180,7 +180,7 @@ fn shadowed_lamps(gpu: &Gpu) -> Result {
         ..FrameInputs::new(view_from_world, clip_from_view, time)
     })?;
     let mut encoder = device.create_command_encoder(&Default::default());
-    fog.encode(&mut encoder)?;                                // ... the atlas pass, then inject
+    fog.encode(&mut encoder)?;                                // inject (and the atlas pass with the ESM)
     queue.submit([encoder.finish()]);
 
     assert_eq!(fog.local_shadow_stats().layers, 7);
