@@ -584,9 +584,13 @@ fn cost_model_counts_each_pass_textures_from_its_shader() {
     assert!(texture("inject_fast_separate", "history").is_none());
     let baseline = texture("inject", "scattering").expect("inject writes scattering");
     assert_eq!(baseline.2, volume, "the baseline covers every froxel");
+    // The sun's shadow: the full-resolution map under the compare filter (the
+    // default), the ESM under the ESM filter; each sized as a whole texture.
+    let shadow = texture("inject", "shadow_map").or_else(|| texture("inject", "esm_array"));
     assert!(
-        texture("inject", "esm_array").is_some_and(|t| t.0 > 0),
-        "inject samples the ESM"
+        shadow.is_some_and(|t| t.0 > 0 && t.2 > 0),
+        "inject reads the sun's shadow: {:#?}",
+        pass("inject")
     );
     assert!(
         pass("inject").bytes_read > 0 && pass("scan").bytes_written >= volume,
