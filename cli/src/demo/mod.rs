@@ -30,6 +30,7 @@ use std::time::Instant;
 
 use glam::UVec3;
 use volfog::limits::InvalidValue;
+use volfog::options::ShadowFilter;
 use volfog::pipeline::FogError;
 use volfog_testkit::GpuError;
 
@@ -63,12 +64,25 @@ pub struct DemoArgs {
     /// Also write linear float images and probe.json of the last frame to DIR/probe.
     #[arg(long)]
     pub probe: bool,
+    /// How the fog tests the sun's and the lamp's shadows: `compare` (the default: the
+    /// shadow maps themselves at one tap per froxel per frame, accumulated by the
+    /// temporal blend) or `esm` (exponential shadow maps).
+    #[arg(long, default_value = "compare", value_parser = parse_filter)]
+    pub shadow_filter: ShadowFilter,
 }
 
 /// The fog configuration the demo renders with (`volfog gpu-cost` compiles its
 /// pipelines).
 pub fn fog_config(args: &DemoArgs) -> volfog::pipeline::FogConfig {
     passes::fog_config(args, false)
+}
+
+fn parse_filter(s: &str) -> Result<ShadowFilter, String> {
+    match s {
+        "compare" => Ok(ShadowFilter::default()),
+        "esm" => Ok(ShadowFilter::Esm),
+        _ => Err(format!("expected compare or esm, got {s:?}")),
+    }
 }
 
 fn parse_volume(s: &str) -> Result<UVec3, String> {

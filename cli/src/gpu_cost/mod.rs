@@ -16,6 +16,7 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 use serde::Serialize;
+use volfog::options::ShadowFilter;
 use volfog::pipeline::FogConfig;
 use volfog_cost::frame::{AC4_MS, AC4_TOTAL_MS, FramePass, frame_passes, runtime_variants};
 use volfog_cost::measure::{Measured, PassModel, Shader, measure, model_pass};
@@ -113,6 +114,19 @@ pub struct FrameModel {
     pub ac4: Vec<Ac4Row>,
 }
 
+/// The same frame with another shadow filter: what the shadows cost on a GPU model.
+#[derive(Debug, Clone, Serialize)]
+pub struct FilterModel {
+    /// The GPU model's name.
+    pub gpu: &'static str,
+    /// The filter, as `FogConfig::shadow_filter` names it.
+    pub filter: String,
+    /// The passes that depend on the filter (the ESM passes and inject).
+    pub passes: Vec<PassModel>,
+    /// The whole froxel pipeline with this filter (ms).
+    pub total_ms: f64,
+}
+
 /// The report of `volfog gpu-cost`.
 #[derive(Debug, Clone, Serialize)]
 pub struct Report {
@@ -122,7 +136,18 @@ pub struct Report {
     pub pipelines: Vec<PipelineRow>,
     /// The frame on each GPU model whose chip was compiled for.
     pub frames: Vec<FrameModel>,
+    /// The same frames with each shadow filter ([`SHADOW_FILTERS`]).
+    pub filters: Vec<FilterModel>,
 }
+
+/// The shadow filters the report sets side by side: the compare filter with one (the
+/// default), two and four taps, and the ESM.
+pub const SHADOW_FILTERS: [ShadowFilter; 4] = [
+    ShadowFilter::Compare { taps: 1 },
+    ShadowFilter::Compare { taps: 2 },
+    ShadowFilter::Compare { taps: 4 },
+    ShadowFilter::Esm,
+];
 
 /// Runs `volfog gpu-cost` from the command line.
 pub fn main(args: GpuCostArgs) -> ExitCode {
@@ -268,17 +293,25 @@ pub fn run(args: &GpuCostArgs, worker: &Worker) -> Result<Report, GpuCostError> 
     let scene = crate::bench::scene::Scene::new();
     let depth = scene.depth_buffer(SCREEN.0, SCREEN.1);
     let mut plans = Vec::new();
+    let mut filter_plans = Vec::new();
     for gpu in MODELS.iter().filter(|m| chips.contains(&m.chip)) {
         // Wronski's grid on his GPU, the default grid on the others.
         let mut config = FogConfig::default();
         if gpu.chip == Chip::Bonaire {
             config.volume_size = WRONSKI_GRID;
         }
+        for filter in SHADOW_FILTERS {
+            let config = FogConfig {
+                shadow_filter: filter,
+                ..config.clone()
+            };
+            filter_plans.push(plan(gpu, config, &scene, &depth)?);
+        }
         plans.push(plan(gpu, config, &scene, &depth)?);
     }
     // Every shader once: the listed pipelines, then what the frames add.
     let mut shaders: Vec<Shader> = listed.iter().map(|(s, _)| s.clone()).collect();
-    for p in &plans {
+    for p in plans.iter().chain(&filter_plans) {
         let extra = p
             .passes
             .iter()
@@ -364,6 +397,35 @@ pub fn run(args: &GpuCostArgs, worker: &Worker) -> Result<Report, GpuCostError> 
             ac4,
         });
     }
+    let mut filters = Vec::new();
+    for p in &filter_plans {
+        let sizes = volfog_cost::floor::Sizes::new(&p.config, SCREEN, p.workload.live_fraction);
+        let passes: Vec<PassModel> = p
+            .passes
+            .iter()
+            .map(|(pass, shader)| {
+                model_pass(
+                    find(p.gpu.chip, &shader.label),
+                    shader,
+                    pass,
+                    &p.gpu,
+                    &sizes,
+                )
+            })
+            .collect::<Result<_, _>>()?;
+        filters.push(FilterModel {
+            gpu: p.gpu.name,
+            filter: format!("{:?}", p.config.shadow_filter),
+            total_ms: passes.iter().map(|m| m.estimate.ms).sum(),
+            passes: passes
+                .into_iter()
+                .filter(|m| {
+                    let v = &m.pass.variant.pass;
+                    *v == "inject" || v.starts_with("esm_")
+                })
+                .collect(),
+        });
+    }
     Ok(Report {
         chips: measured
             .iter()
@@ -371,5 +433,6 @@ pub fn run(args: &GpuCostArgs, worker: &Worker) -> Result<Report, GpuCostError> 
             .collect(),
         pipelines,
         frames,
+        filters,
     })
 }

@@ -4,7 +4,7 @@ use std::fmt::Write as _;
 
 use volfog_cost::measure::PassModel;
 
-use super::{FrameModel, Report};
+use super::{FilterModel, FrameModel, Report};
 
 fn ms(v: f64) -> String {
     if v >= 1.0 {
@@ -206,5 +206,43 @@ pub fn table(report: &Report) -> String {
     for f in &report.frames {
         frame(&mut out, f);
     }
+    filters(&mut out, &report.filters);
     out
+}
+
+/// The shadow filters side by side: the passes that depend on the filter and the whole
+/// froxel pipeline, per GPU model.
+fn filters(out: &mut String, rows: &[FilterModel]) {
+    if rows.is_empty() {
+        return;
+    }
+    let _ = writeln!(
+        out,
+        "\n## Shadow filters: the bench scene's frame with each (ms)\n\n\
+         | GPU model | filter | ESM downsample + blur | inject | froxel pipeline |\n\
+         | --- | --- | ---: | ---: | ---: |"
+    );
+    for r in rows {
+        let esm: f64 = r
+            .passes
+            .iter()
+            .filter(|m| m.pass.variant.pass != "inject")
+            .map(|m| m.estimate.ms)
+            .sum();
+        let inject: f64 = r
+            .passes
+            .iter()
+            .filter(|m| m.pass.variant.pass == "inject")
+            .map(|m| m.estimate.ms)
+            .sum();
+        let _ = writeln!(
+            out,
+            "| {} | {} | {} | {} | {} |",
+            r.gpu,
+            r.filter,
+            if esm > 0.0 { ms(esm) } else { "-".to_string() },
+            ms(inject),
+            ms(r.total_ms)
+        );
+    }
 }

@@ -42,6 +42,7 @@ pub(crate) fn fog_config(args: &DemoArgs, timestamps: bool) -> FogConfig {
         max_local_volumes: 4,
         noise_octaves: 2,
         cloud_shadow: true,
+        shadow_filter: args.shadow_filter,
         timestamps,
         local_shadows: Some(LocalShadowConfig {
             spot_shadows: 0,
