@@ -120,6 +120,7 @@
 #endif
 #ifdef VOLFOG_INJECT_SHADOW_COMPARE
 #import volfog::types::ShadowTaps
+#import volfog::froxel::{ndc_from_uv, slice_depth}
 #import volfog::esm::esm_cascade
 #import volfog::shadow::shadow_cascade_compare
 #else
@@ -279,11 +280,15 @@ fn stabilise(at: vec4<f32>, id: vec3<u32>, now: vec4<f32>) -> vec4<f32> {
 #endif
 
 #ifdef VOLFOG_INJECT_SHADOW_COMPARE
-// World position (xyz) and view depth (w, m) of shadow tap t of froxel id.
+// World position (xyz) and view depth (w, m) of shadow tap t of froxel id: the camera
+// plus the taps' affine ray of its screen position times its view depth (no matrix, so
+// the lights' loops keep few values live).
 fn shadow_tap(id: vec3<u32>, t: u32) -> vec4<f32> {
-    let view = froxel_view_position(
-        id, shadow_taps.offsets[t].xyz, froxels.size, froxels.view_from_clip, froxels.near, froxels.far, froxels.curve);
-    return vec4<f32>((frame.world_from_view * vec4<f32>(view, 1.0)).xyz, abs(view.z));
+    let cell = (vec3<f32>(id) + 0.5 + shadow_taps.offsets[t].xyz) / vec3<f32>(froxels.size);
+    let ndc = ndc_from_uv(cell.xy);
+    let depth = slice_depth(cell.z, froxels.near, froxels.far, froxels.curve);
+    let ray = shadow_taps.ray_origin + shadow_taps.ray_x * ndc.x + shadow_taps.ray_y * ndc.y;
+    return vec4<f32>(frame.camera_position + ray * depth, depth);
 }
 
 // The sun's visibility at a world position and view depth through the cascade that

@@ -269,12 +269,21 @@ struct ShadowTaps {
     // the R3 low-discrepancy step (modulo the froxel), so each tap cycles through the
     // froxel over the frames and the taps of one frame spread over it.
     offsets: array<vec4<f32>, 16>,
+    // The world-space view ray of a screen position per metre of view depth, affine in
+    // its normalised device coordinates (a perspective projection's rays are):
+    // ray_origin + ray_x * ndc.x + ray_y * ndc.y. A tap lies at the camera plus its
+    // ray times its view depth, so the taps need no matrix.
+    ray_origin: vec3<f32>,
     // Taps of a froxel, 1..=16: FogConfig's taps (1..=4) with temporal reprojection,
     // `fresh` without it.
     count: u32,
+    // d ray / d ndc.x (per metre of view depth).
+    ray_x: vec3<f32>,
     // Taps of a froxel whose history the fused temporal blend (VOLFOG_INJECT_TEMPORAL)
     // does not find (the first frame, disocclusions), count..=16.
     fresh: u32,
+    // d ray / d ndc.y (per metre of view depth).
+    ray_y: vec3<f32>,
     // 1: the sun's shadow map holds reversed depth (1 at the light's near plane); the
     // cascades' light_from_world still give standard depth.
     sun_reversed_z: u32,

@@ -18,7 +18,7 @@ use super::local_shadow::{
     ColorLayer, light_cookie, local_shadow_compare, local_shadow_visibility,
 };
 use super::noise::{noise_animated, noise_animated_texture};
-use super::shadow::shadow_cascade_compare;
+use super::shadow::{shadow_cascade_compare, shadow_tap_world};
 pub use super::texture::DensityTexture;
 use crate::options::InjectOptions;
 use crate::uniforms::{
@@ -119,24 +119,18 @@ pub fn injected_source(id: UVec3, frame: &FogFrame, slices: u32) -> UVec3 {
 }
 
 /// The world position and view depth of shadow tap `tap` of froxel `id` (tap 0: the
-/// froxel's sample, as [`froxel_world_position`]).
+/// froxel's sample, as [`froxel_world_position`]; the others through the taps' affine
+/// rays, [`shadow_tap_world`]).
 pub fn shadow_tap_position(inputs: &InjectInputs<'_>, id: UVec3, tap: u32) -> (Vec3, f32) {
     if tap == 0 {
         return froxel_world_position(inputs.froxels, inputs.frame, id, inputs.options.jitter);
     }
-    let f = inputs.froxels;
-    let view = froxel_view_position(
+    shadow_tap_world(
+        inputs.froxels,
+        inputs.shadow_taps,
+        inputs.frame.camera_position,
         id,
         inputs.shadow_taps.offsets[tap as usize].truncate(),
-        f.size,
-        f.view_from_clip,
-        f.near,
-        f.far,
-        f.curve,
-    );
-    (
-        inputs.frame.world_from_view.transform_point3(view),
-        view.z.abs(),
     )
 }
 

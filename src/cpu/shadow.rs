@@ -13,7 +13,7 @@
 //! assert_eq!(shadow_pcf(&map, Vec2::new(0.8, 0.5), 0.5, true), 1.0); // beside it
 //! assert_eq!(shadow_pcf(&map, Vec2::new(0.5, 0.5), 0.5, true), 0.5); // on its edge
 //! // One tap per froxel with history, four without; tap 0 is the froxel's sample.
-//! let taps = shadow_taps(Vec3::new(0.25, -0.1, 0.0), 1, false);
+//! let taps = shadow_taps(Vec3::new(0.25, -0.1, 0.0), 1, false, [Vec3::NEG_Z, Vec3::X, Vec3::Y]);
 //! assert_eq!((taps.count, taps.fresh), (1, 4));
 //! assert_eq!(taps.offsets[0].truncate(), Vec3::new(0.25, -0.1, 0.0));
 //! ```
@@ -21,8 +21,9 @@
 use glam::{Mat4, Vec2, Vec3, Vec4};
 
 use super::esm::{Layer, esm_shadow_coord};
+use super::froxel::{ndc_from_uv, slice_depth, view_from_ndc};
 use crate::limits::MAX_SHADOW_TAPS;
-use crate::uniforms::ShadowTaps;
+use crate::uniforms::{Froxels, ShadowTaps};
 
 /// The R3 low-discrepancy step (the inverse powers 1, 2, 3 of the root > 1 of
 /// x^4 = x + 1, Roberts 2018, "The unreasonable effectiveness of quasirandom
@@ -42,11 +43,26 @@ pub fn shadow_tap_offset(jitter: Vec3, tap: u32) -> Vec3 {
     wrapped - 0.5
 }
 
+/// The world-space view rays of a camera per metre of view depth, affine in the
+/// normalised device coordinates: `(ray at ndc 0, 0; d ray / d ndc.x; d ray / d
+/// ndc.y)`, from its inverse projection and its view -> world transform (what
+/// `froxel_view_position` scales by the view depth, taken at three points; a
+/// perspective projection's rays are affine in ndc).
+pub fn shadow_tap_rays(view_from_clip: glam::Mat4, world_from_view: glam::Mat4) -> [Vec3; 3] {
+    let ray = |x: f32, y: f32| {
+        let v = view_from_ndc(Vec3::new(x, y, 0.5), view_from_clip);
+        world_from_view.transform_vector3(v / v.z.abs().max(1e-30))
+    };
+    let origin = ray(0.0, 0.0);
+    [origin, ray(1.0, 0.0) - origin, ray(0.0, 1.0) - origin]
+}
+
 /// The taps of a frame whose froxel sample lies at `jitter`: `count` (1..=4) per froxel
 /// with history, `4 count` (at most 16) without, `sun_reversed_z` when the sun's map
-/// holds reversed depth. Each tap cycles through the froxel as the jitter does (a
-/// rotation of the jitter's Halton points), and one frame's taps spread over it.
-pub fn shadow_taps(jitter: Vec3, count: u32, sun_reversed_z: bool) -> ShadowTaps {
+/// holds reversed depth, the camera's `rays` ([`shadow_tap_rays`]). Each tap cycles
+/// through the froxel as the jitter does (a rotation of the jitter's Halton points),
+/// and one frame's taps spread over it.
+pub fn shadow_taps(jitter: Vec3, count: u32, sun_reversed_z: bool, rays: [Vec3; 3]) -> ShadowTaps {
     let count = count.clamp(1, MAX_SHADOW_TAPS / 4);
     let mut offsets = [Vec4::ZERO; MAX_SHADOW_TAPS as usize];
     for (t, o) in offsets.iter_mut().enumerate() {
@@ -54,10 +70,30 @@ pub fn shadow_taps(jitter: Vec3, count: u32, sun_reversed_z: bool) -> ShadowTaps
     }
     ShadowTaps {
         offsets,
+        ray_origin: rays[0],
         count,
+        ray_x: rays[1],
         fresh: 4 * count,
+        ray_y: rays[2],
         sun_reversed_z: u32::from(sun_reversed_z),
     }
+}
+
+/// World position and view depth (m) of the point at `offset` (froxel units) in froxel
+/// `id` through the taps' affine rays (`shadow_tap` of the inject pass): the camera at
+/// `camera`, plus the ray of the point's screen position times its view depth.
+pub fn shadow_tap_world(
+    froxels: &Froxels,
+    taps: &ShadowTaps,
+    camera: Vec3,
+    id: glam::UVec3,
+    offset: Vec3,
+) -> (Vec3, f32) {
+    let cell = (id.as_vec3() + 0.5 + offset) / froxels.size.as_vec3();
+    let ndc = ndc_from_uv(cell.truncate());
+    let depth = slice_depth(cell.z, froxels.near, froxels.far, froxels.curve);
+    let ray = taps.ray_origin + taps.ray_x * ndc.x + taps.ray_y * ndc.y;
+    (camera + ray * depth, depth)
 }
 
 /// The 2 x 2 percentage-closer compare of a receiver at depth `receiver` around uv
@@ -125,7 +161,7 @@ mod tests {
     fn taps_stay_in_the_froxel_and_tap_zero_is_the_sample() {
         for frame in 0..64 {
             let jitter = froxel_jitter(frame);
-            let taps = shadow_taps(jitter, 4, false);
+            let taps = shadow_taps(jitter, 4, false, [Vec3::NEG_Z, Vec3::X, Vec3::Y]);
             assert_eq!(taps.offsets[0].truncate(), jitter);
             taps.validate().unwrap();
         }
@@ -146,6 +182,52 @@ mod tests {
                     "tap {tap} axis {axis}: {low} of 16 below 0"
                 );
             }
+        }
+    }
+
+    #[test]
+    fn tap_rays_place_points_as_the_froxel_mapping_does() {
+        // An off-centre (jittered) perspective with reversed depth, a rotated camera.
+        let projection = glam::Mat4::from_translation(Vec3::new(0.003, -0.002, 0.0))
+            * glam::camera::rh::proj::directx::perspective(1.1, 1.6, 40.0, 0.2);
+        let world_from_view = glam::Mat4::from_rotation_translation(
+            glam::Quat::from_euler(glam::EulerRot::YXZ, 0.7, -0.3, 0.1),
+            Vec3::new(3.0, 2.0, -1.0),
+        );
+        let froxels =
+            Froxels::new(projection, glam::UVec3::new(16, 9, 32), 0.5, 64.0, 3.0).unwrap();
+        let taps = shadow_taps(
+            Vec3::ZERO,
+            1,
+            false,
+            shadow_tap_rays(froxels.view_from_clip, world_from_view),
+        );
+        let camera = world_from_view.transform_point3(Vec3::ZERO);
+        for (id, offset) in [
+            (glam::UVec3::new(0, 0, 0), Vec3::splat(-0.5)),
+            (glam::UVec3::new(15, 8, 31), Vec3::splat(0.49)),
+            (glam::UVec3::new(7, 3, 12), Vec3::new(0.2, -0.4, 0.1)),
+        ] {
+            let view = crate::cpu::froxel::froxel_view_position(
+                id,
+                offset,
+                froxels.size,
+                froxels.view_from_clip,
+                froxels.near,
+                froxels.far,
+                froxels.curve,
+            );
+            let want = world_from_view.transform_point3(view);
+            let (got, depth) = shadow_tap_world(&froxels, &taps, camera, id, offset);
+            assert!(
+                (got - want).length() < 1e-4 * want.distance(camera).max(1.0),
+                "{id}: {got} vs {want}"
+            );
+            assert!(
+                (depth - view.z.abs()).abs() < 1e-4 * depth,
+                "{depth} vs {}",
+                view.z
+            );
         }
     }
 

@@ -70,12 +70,20 @@ pub struct ShadowTaps {
     /// Offsets from the froxel's centre in froxel units, xyz in [-0.5, 0.5) (w unused);
     /// tap 0 is the froxel's own sample (`FogFrame::jitter`).
     pub offsets: [Vec4; limits::MAX_SHADOW_TAPS as usize],
+    /// The world-space view ray per metre of view depth at the screen's centre
+    /// (`ndc` 0, 0): a tap at `ndc` lies at the camera plus `(ray_origin + ray_x ndc.x
+    /// + ray_y ndc.y)` times its view depth.
+    pub ray_origin: Vec3,
     /// Taps of a froxel, 1..=16: the configuration's taps ([`limits::SHADOW_TAPS`])
     /// with temporal reprojection, `fresh` without it.
     pub count: u32,
+    /// The ray's change per unit of `ndc.x`.
+    pub ray_x: Vec3,
     /// Taps of a froxel whose history the fused temporal blend does not find (the
     /// first frame, disocclusions), `count..=16`.
     pub fresh: u32,
+    /// The ray's change per unit of `ndc.y`.
+    pub ray_y: Vec3,
     /// 1: the sun's shadow map holds reversed depth.
     pub sun_reversed_z: u32,
 }
@@ -85,16 +93,26 @@ impl Default for ShadowTaps {
     fn default() -> Self {
         Self {
             offsets: [Vec4::ZERO; limits::MAX_SHADOW_TAPS as usize],
+            ray_origin: Vec3::NEG_Z,
             count: 1,
+            ray_x: Vec3::X,
             fresh: 1,
+            ray_y: Vec3::Y,
             sun_reversed_z: 0,
         }
     }
 }
 
 impl ShadowTaps {
-    /// Checks the values: 1 <= count <= fresh <= 16, offsets within the froxel.
+    /// Checks the values: 1 <= count <= fresh <= 16, offsets within the froxel, finite
+    /// rays.
     pub fn validate(&self) -> Result<(), InvalidValue> {
+        check(
+            self.ray_origin.is_finite() && self.ray_x.is_finite() && self.ray_y.is_finite(),
+            "ShadowTaps.ray_origin",
+            (self.ray_origin, self.ray_x, self.ray_y),
+            "finite rays",
+        )?;
         Range::new(1, limits::MAX_SHADOW_TAPS, "taps").check("ShadowTaps.count", self.count)?;
         Range::new(self.count, limits::MAX_SHADOW_TAPS, "taps")
             .check("ShadowTaps.fresh", self.fresh)?;

@@ -273,14 +273,14 @@ pub fn expected_uniforms(
             .with_sun_transmittance(config.light_transmittance)
             .to_view_space(view_from_world),
         view: FogView { view_from_world },
-        shadow_taps: expected_shadow_taps(config, index),
+        shadow_taps: expected_shadow_taps(config, index, inputs),
     }
 }
 
 /// The compare filter's taps of frame `index`: tap 0 at the froxel's sample (the
 /// frame's jitter), tap t moved t R3 steps from it modulo the froxel; `taps` per
 /// froxel with history and 4 taps without (every froxel without temporal blending).
-fn expected_shadow_taps(config: &FogConfig, index: u32) -> ShadowTaps {
+fn expected_shadow_taps(config: &FogConfig, index: u32, inputs: &FrameInputs<'_>) -> ShadowTaps {
     let jitter = if config.jitter {
         froxel_jitter(index)
     } else {
@@ -305,10 +305,21 @@ fn expected_shadow_taps(config: &FogConfig, index: u32) -> ShadowTaps {
         }
         .extend(0.0);
     }
+    // The view ray per metre of view depth through ndc (x, y): the inverse projection
+    // of the point at depth 0.5, scaled to a view depth of 1, in world space.
+    let world_from_view = inputs.view_from_world.inverse();
+    let view_from_clip = inputs.clip_from_view.inverse();
+    let ray = |x: f32, y: f32| {
+        let v = view_from_clip.project_point3(Vec3::new(x, y, 0.5));
+        world_from_view.transform_vector3(v / -v.z)
+    };
     ShadowTaps {
         offsets,
+        ray_origin: ray(0.0, 0.0),
         count: if config.temporal { taps } else { 4 * taps },
+        ray_x: ray(1.0, 0.0) - ray(0.0, 0.0),
         fresh: 4 * taps,
+        ray_y: ray(0.0, 1.0) - ray(0.0, 0.0),
         sun_reversed_z: u32::from(config.shadow_reversed_z),
     }
 }

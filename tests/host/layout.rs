@@ -299,8 +299,11 @@ fn rust_layouts() -> BTreeMap<&'static str, Measured> {
         }),
         measure!(ShadowTaps {
             offsets: [Vec4; 16],
+            ray_origin: Vec3,
             count: u32,
+            ray_x: Vec3,
             fresh: u32,
+            ray_y: Vec3,
             sun_reversed_z: u32,
         }),
         measure!(Froxels {

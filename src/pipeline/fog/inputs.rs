@@ -7,7 +7,7 @@ use super::config::FogConfig;
 use super::local_shadows::ShadowedLight;
 use crate::cpu::ambient::AmbientSh;
 use crate::cpu::froxel::froxel_jitter;
-use crate::cpu::shadow::shadow_taps;
+use crate::cpu::shadow::{shadow_tap_rays, shadow_taps};
 use crate::limits::{InvalidValue, check};
 use crate::options::ShadowFilter;
 use crate::uniforms::{
@@ -185,7 +185,8 @@ impl FrameInputs<'_> {
             ShadowFilter::Compare { taps } => taps,
             ShadowFilter::Esm => 1,
         };
-        let mut shadow_taps = shadow_taps(jitter, taps, config.shadow_reversed_z);
+        let rays = shadow_tap_rays(froxels.view_from_clip, world_from_view);
+        let mut shadow_taps = shadow_taps(jitter, taps, config.shadow_reversed_z, rays);
         if !config.temporal {
             // Without a history every froxel takes the taps of one that has none.
             shadow_taps.count = shadow_taps.fresh;
