@@ -1,12 +1,14 @@
 //! Shadowed point and spot lights over the bench scene: the same frame with six lights
 //! (four spot, two point) lit unshadowed and shadowed through the local-light ESM
-//! atlas, their depth maps ray cast from the scene's ground, pillars and lintels, and
-//! lit by an inject compiled without local shadows; and shadowed with their maps
-//! unchanged from frame to frame (`ShadowedLight::map_unchanged`: the atlas keeps its
-//! layers).
+//! atlas (`ShadowFilter::Esm`), their depth maps ray cast from the scene's ground,
+//! pillars and lintels, and lit by an inject compiled without local shadows; shadowed
+//! with their maps unchanged from frame to frame (`ShadowedLight::map_unchanged`: the
+//! atlas keeps its layers); and unshadowed and shadowed under the compare filter (the
+//! default), which tests the same depth maps in inject and has no atlas.
 
 use super::*;
 use glam::Vec3;
+use volfog::options::ShadowFilter;
 use volfog::pipeline::{FrameInputs, LocalShadowStats, ShadowedLight};
 use volfog::uniforms::{FogLight, LightCamera};
 
@@ -58,12 +60,16 @@ pub(super) struct LocalLightSetup {
     pub(super) map_bytes: u64,
     /// Bytes the atlas adds to the fog (`memory_bytes` with it minus without).
     pub(super) atlas_bytes: u64,
+    /// Bytes the compare filter's shadowed lights add to the fog (the same difference).
+    pub(super) compare_bytes: u64,
     /// What the shadowed frame's lights got.
     pub(super) stats: LocalShadowStats,
     /// What the frame with unchanged maps got.
     pub(super) kept_stats: LocalShadowStats,
-    /// [`LocalLights::light_through_shadows`] after the measured frames.
+    /// [`LocalLights::light_through_shadows`] after the measured frames, ESM filter.
     pub(super) light_through_shadows: f64,
+    /// The same, compare filter.
+    pub(super) compare_light_through_shadows: f64,
 }
 
 /// Samples of one frame of [`LocalLights`].
@@ -80,12 +86,17 @@ pub(super) struct LocalLightSamples {
     pub(super) inject_kept: Sample,
     /// The atlas pass of that frame (its layers kept: nothing to fill).
     pub(super) atlas_kept: Sample,
+    /// Inject of the six lights unshadowed, compare filter.
+    pub(super) compare_unshadowed: Sample,
+    /// Inject of the six lights shadowed, compare filter.
+    pub(super) compare_shadowed: Sample,
 }
 
-/// Four fogs of the bench's baseline configuration over the main screen: one lighting
-/// the six lights unshadowed, one shadowing them through its atlas, one with
-/// `FogConfig::local_shadows` `None` (inject compiled without local shadows), and one
-/// shadowing them with their maps unchanged since its first frame.
+/// Six fogs of the bench's baseline configuration over the main screen. Four with the
+/// ESM filter: one lighting the six lights unshadowed, one shadowing them through its
+/// atlas, one with `FogConfig::local_shadows` `None` (inject compiled without local
+/// shadows), and one shadowing them with their maps unchanged since its first frame;
+/// and two with the compare filter, lighting them unshadowed and shadowed.
 pub(super) struct LocalLights {
     lights: Vec<FogLight>,
     shadowed_lights: Vec<ShadowedLight>,
@@ -94,6 +105,8 @@ pub(super) struct LocalLights {
     shadowed: Screen,
     compiled_out: Screen,
     kept: Screen,
+    compare_unshadowed: Screen,
+    compare_shadowed: Screen,
     /// Whether `kept`'s atlas holds the lights' maps (filled once, untimed, before its
     /// first frame).
     primed: bool,
@@ -137,20 +150,24 @@ impl LocalLights {
             volfog_testkit::selfcheck::depth_array_texture(gpu, map_size, map_size, &slices)
         };
         let (spot_maps, point_maps) = (texture(&spot_layers)?, texture(&point_layers)?);
-        let unshadowed = Screen::new(gpu, config, shadow_map, depth, SCREEN)?;
+        let esm = with_filter(config, ShadowFilter::Esm);
+        let unshadowed = Screen::new(gpu, &esm, shadow_map, depth, SCREEN)?;
         let without = FogConfig {
             local_shadows: None,
-            ..config.clone()
+            ..esm.clone()
         };
         let compiled_out = Screen::new(gpu, &without, shadow_map, depth, SCREEN)?;
-        let shadowed_screen = || {
+        let shadowed_screen = |config: &FogConfig| {
             let mut screen = Screen::new(gpu, config, shadow_map, depth, SCREEN)?;
             screen.fog.set_spot_shadow_maps(&gpu.device, &spot_maps)?;
             screen.fog.set_point_shadow_maps(&gpu.device, &point_maps)?;
             Ok::<_, BenchError>(screen)
         };
-        let shadowed = shadowed_screen()?;
-        let kept = shadowed_screen()?;
+        let shadowed = shadowed_screen(&esm)?;
+        let kept = shadowed_screen(&esm)?;
+        let compare = with_filter(config, ShadowFilter::default());
+        let compare_unshadowed = Screen::new(gpu, &compare, shadow_map, depth, SCREEN)?;
+        let compare_shadowed = shadowed_screen(&compare)?;
         let kept_lights = shadowed_lights
             .iter()
             .map(|s| s.with_unchanged_map())
@@ -158,6 +175,8 @@ impl LocalLights {
         let map_bytes =
             4 * u64::from(map_size * map_size) * (spot_layers.len() + point_layers.len()) as u64;
         let atlas_bytes = shadowed.fog.memory_bytes() - unshadowed.fog.memory_bytes();
+        let compare_bytes =
+            compare_shadowed.fog.memory_bytes() - compare_unshadowed.fog.memory_bytes();
         Ok(Self {
             lights,
             shadowed_lights,
@@ -166,20 +185,24 @@ impl LocalLights {
             shadowed,
             compiled_out,
             kept,
+            compare_unshadowed,
+            compare_shadowed,
             primed: false,
             setup: LocalLightSetup {
                 map_size,
                 atlas_size: local.resolution,
                 map_bytes,
                 atlas_bytes,
+                compare_bytes,
                 stats: LocalShadowStats::default(),
                 kept_stats: LocalShadowStats::default(),
                 light_through_shadows: f64::NAN,
+                compare_light_through_shadows: f64::NAN,
             },
         })
     }
 
-    /// Frame `f` of the four fogs over the scene's `inputs` with the six lights in
+    /// Frame `f` of the six fogs over the scene's `inputs` with the six lights in
     /// place of the scene's (rotating which runs first so that drift cancels).
     pub(super) fn frame(
         &mut self,
@@ -199,6 +222,10 @@ impl LocalLights {
         self.unshadowed.fog.prepare(&gpu.queue, &unshadowed)?;
         self.shadowed.fog.prepare(&gpu.queue, &shadowed)?;
         self.compiled_out.fog.prepare(&gpu.queue, &unshadowed)?;
+        self.compare_unshadowed
+            .fog
+            .prepare(&gpu.queue, &unshadowed)?;
+        self.compare_shadowed.fog.prepare(&gpu.queue, &shadowed)?;
         if !self.primed {
             // The static lamps' maps were filtered in an earlier frame.
             self.kept.fog.prepare(&gpu.queue, &shadowed)?;
@@ -221,13 +248,16 @@ impl LocalLights {
             &mut self.shadowed,
             &mut self.compiled_out,
             &mut self.kept,
+            &mut self.compare_unshadowed,
+            &mut self.compare_shadowed,
         ];
-        let mut timings = [(PassTimings::default(), PassTimings::default()); 4];
-        for k in 0..4 {
-            let which = (k + f as usize) % 4;
+        let n = screens.len();
+        let mut timings = [(PassTimings::default(), PassTimings::default()); 6];
+        for k in 0..n {
+            let which = (k + f as usize) % n;
             timings[which] = screens[which].frame(gpu)?;
         }
-        let [u, s, c, k] = timings;
+        let [u, s, c, k, cu, cs] = timings;
         let both = |pick: fn(&PassTimings) -> f64, t: &(PassTimings, PassTimings)| Sample {
             gpu: pick(&t.0),
             cpu: pick(&t.1),
@@ -239,18 +269,21 @@ impl LocalLights {
             atlas: both(|p| p.local_shadows, &s),
             inject_kept: both(|p| p.inject, &k),
             atlas_kept: both(|p| p.local_shadows, &k),
+            compare_unshadowed: both(|p| p.inject, &cu),
+            compare_shadowed: both(|p| p.inject, &cs),
         })
     }
 
     /// The six lights' in-scattering through their shadows: `inputs` with the sun,
     /// the ambient light and the emission off, inject alone (after the atlas pass), the
     /// scattering volume of the shadowed fog (rgb summed over every froxel) over the
-    /// unshadowed one's. Run after the measured frames: it prepares a frame of its own.
+    /// unshadowed one's, under the ESM filter and the compare filter (one frame's
+    /// taps). Run after the measured frames: it prepares a frame of its own.
     pub(super) fn light_through_shadows(
         &mut self,
         gpu: &Gpu,
         inputs: &FrameInputs<'_>,
-    ) -> Result<f64, BenchError> {
+    ) -> Result<[f64; 2], BenchError> {
         let unshadowed = FrameInputs {
             medium: volfog::uniforms::FogMedium {
                 emission: Vec3::ZERO,
@@ -280,6 +313,10 @@ impl LocalLights {
             let volume = gpu.read_texture_rgba16f(screen.fog.scattering_texture())?;
             Ok::<f64, BenchError>(volume.iter().map(|v| f64::from(v.x + v.y + v.z)).sum())
         };
-        Ok(total(&mut self.shadowed, &shadowed)? / total(&mut self.unshadowed, &unshadowed)?)
+        Ok([
+            total(&mut self.shadowed, &shadowed)? / total(&mut self.unshadowed, &unshadowed)?,
+            total(&mut self.compare_shadowed, &shadowed)?
+                / total(&mut self.compare_unshadowed, &unshadowed)?,
+        ])
     }
 }

@@ -5,7 +5,8 @@
 //!    scan's access pattern): the bandwidth floor;
 //! 2. the fullscreen apply at 1920x1080 against a fullscreen blit of the same size;
 //! 3. the froxel pipeline (inject + temporal + scan + 1080p apply) against a per-pixel
-//!    raymarch of the same scene with 64 samples per pixel (`raymarch.wgsl`);
+//!    raymarch of the same scene with 64 samples per pixel (`raymarch.wgsl`, which reads
+//!    the sun's shadow from the filtered ESM of the ESM fog of 8.);
 //! 4. the froxel pipeline (without apply) behind a 1280x720 camera against a 3840x2160
 //!    camera, three pairs per frame in alternating order: the volume does not depend on
 //!    the screen;
@@ -19,8 +20,17 @@
 //!    its image against that reference;
 //! 7. four spot and two point lights over the same scene and medium, unshadowed and
 //!    shadowed through the local-light ESM atlas (depth maps ray cast on the CPU from
-//!    the scene's geometry): inject with and without the shadows and compiled without
-//!    them (`FogConfig::local_shadows` `None`), and the atlas pass.
+//!    the scene's geometry) by fogs with the ESM filter: inject with and without the
+//!    shadows and compiled without them (`FogConfig::local_shadows` `None`), and the
+//!    atlas pass, every map filtered and the maps kept; and the same lights under the
+//!    compare filter, unshadowed and shadowed (inject alone: it has no atlas);
+//! 8. the two shadow filters (`FogConfig::shadow_filter`) for the sun: the baseline's
+//!    inject (the default compare filter, one tap) and the same at two taps against ESM
+//!    downsample + ESM blur + inject of the baseline with `ShadowFilter::Esm`, the
+//!    order rotating from frame to frame.
+//!
+//! The baseline takes `FogConfig::default`'s shadow filter (the compare filter), so its
+//! ESM passes do not run; the ESM rows come from the ESM fog of 8.
 //!
 //! Every pass is submitted alone and waited for, and timed by GPU timestamp queries
 //! (`wgpu::Features::TIMESTAMP_QUERY`, required) and by the wall time from submission
@@ -39,6 +49,7 @@ mod passes;
 pub mod raymarch;
 mod report;
 pub(crate) mod scene;
+mod shadow_cost;
 mod table;
 pub(crate) mod workloads;
 
@@ -59,6 +70,7 @@ use floors::*;
 use local_lights::*;
 use passes::*;
 pub use report::*;
+pub use shadow_cost::*;
 pub use table::table;
 use workloads::*;
 
@@ -108,6 +120,10 @@ const TARGET_EPIPOLAR: f64 = 4.0;
 /// Target: inject (and the atlas pass) with four spot and two point lights shadowed /
 /// inject with the same lights unshadowed (or compiled without local shadows).
 const TARGET_LOCAL_SHADOWS: f64 = 1.5;
+/// Target: the compare filter's shadow passes / the ESM filter's, for the sun
+/// (inject / ESM downsample + blur + inject) and for the shadowed lamps (inject /
+/// inject + atlas): the compare filter at no more than the ESM path's cost.
+const TARGET_SHADOW_FILTER: f64 = 1.0;
 /// Target: GPU memory of `VolumetricFog` at the default configuration (MiB).
 const TARGET_MEMORY_MIB: f64 = 48.0;
 
@@ -354,8 +370,10 @@ fn run(args: &BenchArgs) -> Result<(), BenchError> {
     let last = work
         .scene
         .inputs((plan.warmup + plan.frames) as f32 / 60.0, work.cascades);
-    work.local_lights.setup.light_through_shadows =
-        work.local_lights.light_through_shadows(&gpu, &last)?;
+    let [esm_through, compare_through] = work.local_lights.light_through_shadows(&gpu, &last)?;
+    work.local_lights.setup.light_through_shadows = esm_through;
+    work.local_lights.setup.compare_light_through_shadows = compare_through;
+    let raymarch_esm = RaymarchEsm::read(&gpu, work.esm.fog.esm_texture(), &work.config)?;
     let report = summarize(
         &gpu,
         clock,
@@ -368,6 +386,7 @@ fn run(args: &BenchArgs) -> Result<(), BenchError> {
             beyond_far: work.beyond_far,
             shaft_image,
             local_lights: work.local_lights.setup,
+            raymarch_esm,
             paired,
         },
         start,

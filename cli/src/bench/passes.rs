@@ -112,9 +112,25 @@ impl Screen {
     /// Runs one frame, each pass (and the apply) submitted alone; returns its pass
     /// timings by both clocks.
     pub(super) fn frame(&mut self, gpu: &Gpu) -> Result<(PassTimings, PassTimings), BenchError> {
+        self.passes(gpu, &FogPass::ALL, true)
+    }
+
+    /// Runs `passes` of the prepared frame in order (a pass that does not run in this
+    /// configuration records nothing), then the apply when `apply` is set, each
+    /// submitted alone; returns their timings by both clocks (0 for those not run).
+    pub(super) fn passes(
+        &mut self,
+        gpu: &Gpu,
+        passes: &[FogPass],
+        apply: bool,
+    ) -> Result<(PassTimings, PassTimings), BenchError> {
         let mut gpu_ms = PassTimings::default();
         let mut wall_ms = PassTimings::default();
-        let passes = FogPass::ALL.map(Some).into_iter().chain([None]);
+        let passes = passes
+            .iter()
+            .copied()
+            .map(Some)
+            .chain(apply.then_some(None));
         for pass in passes {
             let mut encoder = gpu.device.create_command_encoder(&Default::default());
             match pass {

@@ -249,60 +249,6 @@ pub struct ShaftImage {
     pub memory_bytes: u64,
 }
 
-/// Four spot and two point lights over the bench scene, shadowed through the local-light
-/// ESM atlas against the same lights unshadowed and against them lit by an inject
-/// compiled without local shadows, in the same run.
-#[derive(Debug, Clone, Serialize)]
-pub struct LocalShadowCost {
-    /// Median inject with the lights shadowed / median inject with them unshadowed.
-    pub inject_shadowed_vs_unshadowed: Ratio,
-    /// Median (inject + atlas pass) with the lights shadowed / median inject with them
-    /// unshadowed.
-    pub total_shadowed_vs_unshadowed: Ratio,
-    /// Median inject with the lights shadowed / median inject of the same lights with
-    /// `FogConfig::local_shadows` `None` (compiled without local shadows).
-    pub inject_shadowed_vs_compiled_out: Ratio,
-    /// Median (inject + atlas pass) with the lights shadowed / median inject with
-    /// `local_shadows` `None`.
-    pub total_shadowed_vs_compiled_out: Ratio,
-    /// Median (inject + atlas pass) with the lights shadowed and their maps unchanged
-    /// (`ShadowedLight::map_unchanged`: the atlas keeps its layers and fills none) /
-    /// median inject with them unshadowed.
-    pub total_kept_vs_unshadowed: Ratio,
-    /// Median inject of the lights unshadowed / with `local_shadows` `None`: what
-    /// compiling the local shadows in costs lights without a shadow.
-    pub unshadowed_vs_compiled_out: f64,
-    /// Median atlas pass (downsample and blur of the frame's layers), ms.
-    pub atlas_ms: f64,
-    /// Bytes the atlas adds to `VolumetricFog::memory_bytes()` (the atlas and the
-    /// blur's scratch array).
-    pub atlas_bytes: u64,
-    /// The same in MiB.
-    pub atlas_mib: f64,
-    /// Atlas texels per side (`LocalShadowConfig::resolution`).
-    pub atlas_resolution: u32,
-    /// Atlas layers the frame filled (one per spot light, six per point light).
-    pub atlas_layers: u32,
-    /// Atlas layers the frame with unchanged maps kept (and filled: `kept_filled`).
-    pub kept_layers: u32,
-    /// Atlas layers the frame with unchanged maps filled.
-    pub kept_filled: u32,
-    /// Texels per side of the lights' depth maps.
-    pub depth_map_resolution: u32,
-    /// Bytes of the lights' depth maps (Depth32Float; the caller's textures).
-    pub depth_map_bytes: u64,
-    /// Spot lights shadowed.
-    pub spot_shadows: u32,
-    /// Point lights shadowed.
-    pub point_shadows: u32,
-    /// Lights beyond the budget, lit unshadowed.
-    pub over_budget: u32,
-    /// The six lights' in-scattering with their shadows / without (inject alone, the
-    /// sun, ambient light and emission off; rgb summed over every froxel): below 1 as
-    /// far as the shadows darken the fog in view.
-    pub light_through_shadows: f64,
-}
-
 /// Depth culling in the bench scene.
 #[derive(Debug, Clone, Serialize)]
 pub struct Culling {
@@ -371,8 +317,12 @@ pub struct Report {
     pub apply_breakdown: ApplyBreakdown,
     /// Epipolar sun shafts.
     pub shafts: ShaftCost,
-    /// Shadowed point and spot lights.
+    /// Shadowed point and spot lights (the ESM filter).
     pub local_shadows: LocalShadowCost,
+    /// The two shadow filters side by side: the sun and the shadowed lamps.
+    pub shadow_filters: ShadowFilterCost,
+    /// The ESM the raymarch reads for the sun's shadow.
+    pub raymarch_esm: RaymarchEsm,
     /// The temporal blend fused into inject against the temporal pass apart.
     pub fused_temporal: FusedTemporal,
     /// Median inject with `FogConfig::light_transmittance` (the default) / without:
@@ -396,6 +346,8 @@ pub(super) struct Extra {
     pub(super) shaft_image: ShaftImage,
     /// The shadowed local lights' setup and what their frame got.
     pub(super) local_lights: LocalLightSetup,
+    /// The ESM the raymarch read.
+    pub(super) raymarch_esm: RaymarchEsm,
     /// The ratios of [`PAIRED`], one per measured frame that ran both sides.
     pub(super) paired: std::collections::BTreeMap<&'static str, Vec<f64>>,
 }
@@ -416,6 +368,7 @@ pub(super) fn summarize(
         beyond_far,
         shaft_image,
         local_lights: local,
+        raymarch_esm,
         paired,
     } = extra;
     let series = |k: &str, c: Clock| -> Vec<f64> {
@@ -518,48 +471,8 @@ pub(super) fn summarize(
         image: shaft_image,
         reference_steps: volfog::uniforms::EpipolarSampling::new(1, 1, 64).reference_steps,
     };
-    let local_shadows = LocalShadowCost {
-        inject_shadowed_vs_unshadowed: Ratio::at_most(
-            "median inject, 4 spot + 2 point lights shadowed / the same lights unshadowed",
-            median("local_inject_shadowed") / median("local_inject_unshadowed"),
-            TARGET_LOCAL_SHADOWS,
-        ),
-        total_shadowed_vs_unshadowed: Ratio::at_most(
-            "median (inject + local shadow atlas), shadowed / median inject, unshadowed",
-            median("local_shadowed_total") / median("local_inject_unshadowed"),
-            TARGET_LOCAL_SHADOWS,
-        ),
-        inject_shadowed_vs_compiled_out: Ratio::at_most(
-            "median inject, the lights shadowed / the same lights, local_shadows None",
-            median("local_inject_shadowed") / median("local_inject_compiled_out"),
-            TARGET_LOCAL_SHADOWS,
-        ),
-        total_shadowed_vs_compiled_out: Ratio::at_most(
-            "median (inject + local shadow atlas), shadowed / median inject, local_shadows None",
-            median("local_shadowed_total") / median("local_inject_compiled_out"),
-            TARGET_LOCAL_SHADOWS,
-        ),
-        total_kept_vs_unshadowed: Ratio::at_most(
-            "median (inject + local shadow atlas), shadowed, maps unchanged / median inject, unshadowed",
-            median("local_kept_total") / median("local_inject_unshadowed"),
-            TARGET_LOCAL_SHADOWS,
-        ),
-        unshadowed_vs_compiled_out: median("local_inject_unshadowed")
-            / median("local_inject_compiled_out"),
-        atlas_ms: median("local_shadow_atlas"),
-        atlas_bytes: local.atlas_bytes,
-        atlas_mib: to_mib(local.atlas_bytes),
-        atlas_resolution: local.atlas_size,
-        atlas_layers: local.stats.layers,
-        kept_layers: local.kept_stats.kept,
-        kept_filled: local.kept_stats.layers,
-        depth_map_resolution: local.map_size,
-        depth_map_bytes: local.map_bytes,
-        spot_shadows: local.stats.spot_shadows,
-        point_shadows: local.stats.point_shadows,
-        over_budget: local.stats.unshadowed,
-        light_through_shadows: local.light_through_shadows,
-    };
+    let local_shadows = local_shadow_cost(&median, &local);
+    let shadow_filters = shadow_filter_cost(&median, &per_frame, &local);
     let transmittance_inject_vs_without = median("inject") / median("inject_no_transmittance");
     let separate = median("inject_fast_separate") + median("temporal_fast");
     let fused_temporal = FusedTemporal {
@@ -595,6 +508,8 @@ pub(super) fn summarize(
         apply_breakdown,
         shafts,
         local_shadows,
+        shadow_filters,
+        raymarch_esm,
         fused_temporal,
         transmittance_inject_vs_without,
         memory: Memory {

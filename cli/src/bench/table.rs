@@ -23,7 +23,9 @@ pub fn table(report: &Report) -> String {
     }
     let _ = writeln!(
         out,
-        "  * inject + temporal + scan + apply (ESM passes excluded: the raymarch uses the same ESM)"
+        "  * inject + temporal + scan + apply (the compare filter: no ESM pass; the raymarch reads \
+         the ESM fog's {}x{}x{} ESM, untimed)",
+        report.raymarch_esm.size[0], report.raymarch_esm.size[1], report.raymarch_esm.size[2]
     );
     let _ = writeln!(out, "  ** inject + temporal + scan, apply excluded");
     let _ = writeln!(
@@ -40,12 +42,17 @@ pub fn table(report: &Report) -> String {
         "  + 1080p with the scene depth: culling, checkerboard amortisation, noise texture \
          (the rows without + are the baseline: none of them)"
     );
+    let _ = writeln!(
+        out,
+        "  # the sun's shadow filters: the rows without # take the compare filter at one tap \
+         (FogConfig::default); the ESM rows a fog with ShadowFilter::Esm, its inject beside them"
+    );
     let l = &report.local_shadows;
     let _ = writeln!(
         out,
-        "  ++ baseline, the scene's lights replaced by {} spot + {} point lights; atlas {} layers \
-         of {}x{} from {}x{} depth maps; None: FogConfig::local_shadows None; maps kept: \
-         their maps unchanged, {} layers kept and {} filled",
+        "  ++ baseline, the scene's lights replaced by {} spot + {} point lights, the ESM filter \
+         unless \"compare\"; atlas {} layers of {}x{} from {}x{} depth maps; None: \
+         FogConfig::local_shadows None; maps kept: their maps unchanged, {} layers kept and {} filled",
         l.spot_shadows,
         l.point_shadows,
         l.atlas_layers,
@@ -100,6 +107,22 @@ pub fn table(report: &Report) -> String {
         (
             "(inject + atlas) kept / unshadowed",
             &l.total_kept_vs_unshadowed,
+        ),
+        (
+            "sun: compare inject / ESM path",
+            &report.shadow_filters.sun_compare_vs_esm,
+        ),
+        (
+            "sun: compare 2 taps / ESM path",
+            &report.shadow_filters.sun_compare_2_vs_esm,
+        ),
+        (
+            "lamps: compare inject / unshadowed",
+            &report.shadow_filters.lamps_compare_vs_unshadowed,
+        ),
+        (
+            "lamps: compare / ESM inject + atlas",
+            &report.shadow_filters.lamps_compare_vs_esm,
         ),
     ] {
         let spread = ratio
@@ -204,8 +227,41 @@ pub fn table(report: &Report) -> String {
     );
     let _ = writeln!(
         out,
-        "{:<36} {:>10.3}  (the six lights' in-scattering with / without their shadows)",
-        "light through the local shadows", l.light_through_shadows
+        "{:<36} {:>10.3}  (the six lights' in-scattering with / without their shadows, ESM; \
+         compare filter {:.3})",
+        "light through the local shadows",
+        l.light_through_shadows,
+        report.shadow_filters.lamps_compare_light_through_shadows
+    );
+    let sf = &report.shadow_filters;
+    let _ = writeln!(
+        out,
+        "{:<36} {:>9.3}x  (inject alone; the ESM passes {:.3} ms; 2 taps / 1 tap {:.3}x)",
+        "sun: compare inject / ESM inject",
+        sf.sun_inject_compare_vs_esm,
+        sf.sun_esm_passes_ms,
+        sf.sun_compare_2_vs_compare
+    );
+    let _ = writeln!(
+        out,
+        "{:<36} {:>9.3}x  (the maps kept; unshadowed compare / ESM {:.3}x; the compare filter \
+         adds {} bytes: no atlas)",
+        "lamps: compare / ESM, maps kept",
+        sf.lamps_compare_vs_esm_kept,
+        sf.lamps_unshadowed_compare_vs_esm,
+        sf.lamps_compare_bytes
+    );
+    let e = &report.raymarch_esm;
+    let _ = writeln!(
+        out,
+        "{:<36} {}x{}x{}  (occluder depth {:.3} to {:.3}, {} texels not finite)",
+        "raymarch's ESM (the ESM fog's)",
+        e.size[0],
+        e.size[1],
+        e.size[2],
+        e.occluder_depth_min,
+        e.occluder_depth_max,
+        e.nan_texels
     );
     let c = &report.cost;
     let _ = writeln!(

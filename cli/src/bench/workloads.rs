@@ -1,13 +1,17 @@
 //! The series measured every frame and the workloads that produce them.
 
 use super::*;
+use volfog::options::ShadowFilter;
 
 /// Series measured each frame, in table order: (key, label).
 pub(super) const SERIES: &[(&str, &str)] = &[
-    ("esm_downsample", "esm downsample (4 cascades)"),
-    ("esm_blur", "esm blur (x + y)"),
     ("inject", "inject 160x90x128"),
     ("inject_no_transmittance", "inject, light transmittance off"),
+    ("inject_compare_2", "inject, compare, 2 taps #"),
+    ("esm_downsample", "esm downsample (4 cascades) #"),
+    ("esm_blur", "esm blur (x + y) #"),
+    ("inject_esm", "inject, ESM filter #"),
+    ("esm_filter_total", "esm passes + inject, ESM #"),
     ("temporal", "temporal 160x90x128"),
     ("scan", "scan 160x90x128"),
     ("cull", "froxel_cull, 1080p depth +"),
@@ -54,6 +58,8 @@ pub(super) const SERIES: &[(&str, &str)] = &[
     ("local_shadowed_total", "inject + atlas, shadowed ++"),
     ("local_inject_kept", "inject, 6 lights, maps kept ++"),
     ("local_kept_total", "inject + atlas, maps kept ++"),
+    ("local_compare_unshadowed", "inject, compare, unshadowed ++"),
+    ("local_compare_shadowed", "inject, compare, shadowed ++"),
 ];
 
 /// The target ratios taken frame by frame: (key, numerator series, denominator
@@ -71,6 +77,8 @@ pub(super) const PAIRED: &[(&str, &str, &str)] = &[
         "raymarch_1080p",
         "froxel_fast_1080p",
     ),
+    ("compare_vs_esm", "inject", "esm_filter_total"),
+    ("compare_2_vs_esm", "inject_compare_2", "esm_filter_total"),
 ];
 
 pub(super) fn froxel_cost(t: &PassTimings) -> f64 {
@@ -100,7 +108,8 @@ pub(crate) fn variant_configs(base: &FogConfig) -> [FogConfig; 5] {
 }
 
 /// The bench's baseline configuration: it times every pass apart, the temporal pass
-/// included (no culling, every froxel injected, procedural noise).
+/// included (no culling, every froxel injected, procedural noise), and tests the
+/// shadows with `FogConfig::default`'s filter (the compare filter, one tap).
 pub(crate) fn base_config() -> FogConfig {
     FogConfig {
         timestamps: true,
@@ -111,6 +120,17 @@ pub(crate) fn base_config() -> FogConfig {
         ..FogConfig::default()
     }
 }
+
+/// `config` with its shadows tested by `filter`.
+pub(super) fn with_filter(config: &FogConfig, filter: ShadowFilter) -> FogConfig {
+    FogConfig {
+        shadow_filter: filter,
+        ..config.clone()
+    }
+}
+
+/// The passes of the sun's ESM filter and the inject that reads it.
+const ESM_PASSES: [FogPass; 3] = [FogPass::EsmDownsample, FogPass::EsmBlur, FogPass::Inject];
 
 /// Frame counts of a run.
 #[derive(Debug, Clone, Copy)]
@@ -165,6 +185,11 @@ pub(super) struct Workloads {
     pub(super) variants: [Screen; 5],
     /// The baseline with `FogConfig::light_transmittance` off.
     pub(super) untransmitted: Screen,
+    /// The baseline with the ESM filter (`ShadowFilter::Esm`): its ESM passes and
+    /// inject run each frame, and the raymarch reads its filtered ESM.
+    pub(super) esm: Screen,
+    /// The baseline with the compare filter at two taps: its inject runs each frame.
+    pub(super) compare_2: Screen,
     pub(super) small: Screen,
     pub(super) large: Screen,
     pub(super) write: VolumePass,
@@ -221,6 +246,20 @@ impl Workloads {
             &depth,
             SCREEN,
         )?;
+        let esm = Screen::new(
+            gpu,
+            &with_filter(&config, ShadowFilter::Esm),
+            &shadow_map,
+            &depth,
+            SCREEN,
+        )?;
+        let compare_2 = Screen::new(
+            gpu,
+            &with_filter(&config, ShadowFilter::Compare { taps: 2 }),
+            &shadow_map,
+            &depth,
+            SCREEN,
+        )?;
         let small_depth = Screen::scene_depth(gpu, &scene, SMALL_SCREEN)?;
         let small = Screen::new(gpu, &config, &shadow_map, &small_depth, SMALL_SCREEN)?;
         let large_depth = Screen::scene_depth(gpu, &scene, LARGE_SCREEN)?;
@@ -261,7 +300,10 @@ impl Workloads {
             wgpu::TextureUsages::RENDER_ATTACHMENT,
         )
         .create_view(&Default::default());
-        let esm_view = main
+        // The baseline's compare filter has no ESM (a 1 x 1 placeholder): the raymarch
+        // reads the ESM fog's, filtered from the same shadow map and cascades each frame
+        // before the raymarch runs.
+        let esm_view = esm
             .fog
             .esm_texture()
             .create_view(&wgpu::TextureViewDescriptor {
@@ -278,6 +320,8 @@ impl Workloads {
             main,
             variants,
             untransmitted,
+            esm,
+            compare_2,
             small,
             large,
             write,
@@ -309,6 +353,8 @@ impl Workloads {
             &mut self.small,
             &mut self.large,
             &mut self.untransmitted,
+            &mut self.esm,
+            &mut self.compare_2,
             v0,
             v1,
             v2,
@@ -317,8 +363,11 @@ impl Workloads {
         ] {
             s.fog.prepare(&gpu.queue, &inputs)?;
         }
-        // The baseline and the same without light transmittance, in alternating order;
-        // the floors right after the baseline, whose passes they are compared with.
+        // The baseline (the compare filter, one tap), the same without light
+        // transmittance, the ESM filter's passes and inject, and the compare filter's
+        // inject at two taps, rotating which runs first from frame to frame so that
+        // drift cancels; the floors right after the baseline, whose passes they are
+        // compared with.
         let timer = &self.timer;
         let (copy, write, blit) = (&self.copy, &self.write, &self.blit);
         let floors = || -> Result<[Sample; 3], BenchError> {
@@ -328,15 +377,23 @@ impl Workloads {
                 timer.run(gpu, 1, |e| blit.encode(e, timer, 1))?,
             ])
         };
-        let ((tg, tc), [copy_t, write_t, blit_t], untransmitted) = if f.is_multiple_of(2) {
-            let main = self.main.frame(gpu)?;
-            let floors = floors()?;
-            (main, floors, self.untransmitted.frame(gpu)?)
-        } else {
-            let untransmitted = self.untransmitted.frame(gpu)?;
-            let main = self.main.frame(gpu)?;
-            (main, floors()?, untransmitted)
-        };
+        let (mut main, mut floor_t, mut untransmitted, mut esm, mut compare_2) =
+            (None, None, None, None, None);
+        for k in 0..4 {
+            match (k + f) % 4 {
+                0 => {
+                    main = Some(self.main.frame(gpu)?);
+                    floor_t = Some(floors()?);
+                }
+                1 => untransmitted = Some(self.untransmitted.frame(gpu)?),
+                2 => esm = Some(self.esm.passes(gpu, &ESM_PASSES, false)?),
+                _ => compare_2 = Some(self.compare_2.passes(gpu, &[FogPass::Inject], false)?),
+            }
+        }
+        let ran = "every fog runs once in the rotation";
+        let (main, [copy_t, write_t, blit_t]) = (main.expect(ran), floor_t.expect(ran));
+        let (untransmitted, esm) = (untransmitted.expect(ran), esm.expect(ran));
+        let compare_2 = compare_2.expect(ran);
         let mut variants = Vec::new();
         for s in &mut self.variants[..3] {
             variants.push(s.frame(gpu)?);
@@ -396,7 +453,6 @@ impl Workloads {
             gpu: pick(&t.0),
             cpu: pick(&t.1),
         };
-        let main = (tg, tc);
         let mut samples = vec![
             ("cull", both(&|p| p.cull, &fast)),
             ("inject_cull", both(&|p| p.inject, &variants[0])),
@@ -417,12 +473,18 @@ impl Workloads {
                 "froxel_fast_separate_1080p",
                 both(&|p| froxel_cost(p) + p.apply, &separate),
             ),
-            ("esm_downsample", both(&|p| p.esm_downsample, &main)),
-            ("esm_blur", both(&|p| p.esm_blur, &main)),
             ("inject", both(&|p| p.inject, &main)),
             (
                 "inject_no_transmittance",
                 both(&|p| p.inject, &untransmitted),
+            ),
+            ("inject_compare_2", both(&|p| p.inject, &compare_2)),
+            ("esm_downsample", both(&|p| p.esm_downsample, &esm)),
+            ("esm_blur", both(&|p| p.esm_blur, &esm)),
+            ("inject_esm", both(&|p| p.inject, &esm)),
+            (
+                "esm_filter_total",
+                both(&|p| p.esm_downsample + p.esm_blur + p.inject, &esm),
             ),
             ("temporal", both(&|p| p.temporal, &main)),
             ("scan", both(&|p| p.scan, &main)),
@@ -458,6 +520,8 @@ impl Workloads {
             ("local_shadowed_total", local.inject_shadowed + local.atlas),
             ("local_inject_kept", local.inject_kept),
             ("local_kept_total", local.inject_kept + local.atlas_kept),
+            ("local_compare_unshadowed", local.compare_unshadowed),
+            ("local_compare_shadowed", local.compare_shadowed),
         ]);
         samples.extend(raymarch_t.map(|r| ("raymarch_1080p", r)));
         samples.extend(shafts.reference.map(|r| ("epipolar_reference_1080p", r)));

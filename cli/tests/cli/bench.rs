@@ -1,7 +1,7 @@
 //! `volfog bench`: a quick run through the binary writes a complete JSON report
 //! (structure and plausibility only: performance is never asserted), and the bench's per-pixel raymarch
 //! reference integrates the same medium as the froxel pipeline, so the comparison is
-//! like for like.
+//! like for like (its sun's shadow from a filtered ESM of the bench's cascades).
 
 use glam::{Mat4, Vec2, Vec3, Vec4};
 use volfog::cpu;
@@ -55,6 +55,13 @@ fn quick_bench_writes_every_ratio_memory_and_adapter() {
         "inject unshadowed / None",
         "local shadow atlas memory",
         "light through the local shadows",
+        "sun: compare inject / ESM path",
+        "sun: compare 2 taps / ESM path",
+        "sun: compare inject / ESM inject",
+        "lamps: compare inject / unshadowed",
+        "lamps: compare / ESM inject + atlas",
+        "lamps: compare / ESM, maps kept",
+        "raymarch's ESM (the ESM fog's)",
         "fused inject / inject + temporal apart",
         "VolumetricFog::memory_bytes",
         "memory floor",
@@ -211,6 +218,13 @@ fn quick_bench_writes_every_ratio_memory_and_adapter() {
         "local_shadowed_total",
         "local_inject_kept",
         "local_kept_total",
+        "local_compare_unshadowed",
+        "local_compare_shadowed",
+        "inject_compare_2",
+        "esm_downsample",
+        "esm_blur",
+        "inject_esm",
+        "esm_filter_total",
     ] {
         let median = passes[key]["median_ms"].as_f64().unwrap_or(f64::NAN);
         assert!(median.is_finite() && median > 0.0, "{key}: {median}");
@@ -261,6 +275,75 @@ fn quick_bench_writes_every_ratio_memory_and_adapter() {
         lit > 0.0 && lit < 1.0,
         "the lights' shadows darken the fog the camera sees: {lit}"
     );
+
+    // The two shadow filters side by side: the sun's pairs are taken frame by frame
+    // (one frame here), the lamps' from the medians.
+    let filters = &report["shadow_filters"];
+    for key in ["sun_compare_vs_esm", "sun_compare_2_vs_esm"] {
+        let r = &filters[key];
+        let value = r["value"].as_f64().unwrap_or(f64::NAN);
+        assert!(value.is_finite() && value > 0.0, "{key}: {r}");
+        assert_eq!(r["target"], "<= 1", "{key}: {r}");
+        assert!(r["met"].is_boolean(), "{key}: {r}");
+        assert_eq!(
+            r["frames"]["samples"],
+            serde_json::json!([value]),
+            "{key}: {r}"
+        );
+    }
+    let passes_ms = |key: &str| passes[key]["median_ms"].as_f64().unwrap_or(f64::NAN);
+    assert!(
+        passes_ms("esm_filter_total") > passes_ms("inject_esm"),
+        "the ESM path is its passes and its inject: {filters}"
+    );
+    for (key, target) in [
+        ("lamps_compare_vs_unshadowed", "<= 1.5"),
+        ("lamps_compare_vs_esm", "<= 1"),
+    ] {
+        let r = &filters[key];
+        let value = r["value"].as_f64().unwrap_or(f64::NAN);
+        assert!(value.is_finite() && value > 0.5, "{key}: {r}");
+        assert_eq!(r["target"], target, "{key}: {r}");
+        assert!(r["met"].is_boolean(), "{key}: {r}");
+    }
+    for key in [
+        "sun_inject_compare_vs_esm",
+        "sun_compare_2_vs_compare",
+        "sun_esm_passes_ms",
+        "lamps_compare_vs_esm_kept",
+        "lamps_unshadowed_compare_vs_esm",
+    ] {
+        let v = filters[key].as_f64().unwrap_or(f64::NAN);
+        assert!(v.is_finite() && v > 0.0, "shadow_filters {key} = {v}");
+    }
+    // The compare filter tests the lamps' own depth maps: no atlas.
+    assert!(
+        filters["lamps_compare_bytes"]
+            .as_u64()
+            .is_some_and(|b| b < local["atlas_bytes"].as_u64().unwrap_or(0) / 100),
+        "{filters}"
+    );
+    let lit = filters["lamps_compare_light_through_shadows"]
+        .as_f64()
+        .unwrap_or(f64::NAN);
+    assert!(
+        lit > 0.0 && lit < 1.0,
+        "under the compare filter too the lamps' shadows darken the fog: {lit}"
+    );
+    // The raymarch reads a filtered ESM of the four 256-texel cascades, not the 1 x 1
+    // placeholder of the compare filter's fog: occluders at more than one depth.
+    let esm = &report["raymarch_esm"];
+    assert_eq!(esm["size"], serde_json::json!([256, 256, 4]), "{esm}");
+    assert_eq!(esm["nan_texels"], 0, "{esm}");
+    let (lo, hi) = (
+        esm["occluder_depth_min"].as_f64().unwrap_or(f64::NAN),
+        esm["occluder_depth_max"].as_f64().unwrap_or(f64::NAN),
+    );
+    assert!(
+        lo >= -1e-3 && lo + 1e-2 < hi && hi <= 1.0 + 1e-3,
+        "occluder depths {lo} to {hi}: {esm}"
+    );
+
     let bytes = report["memory"]["bytes"].as_u64().unwrap_or(0);
     assert!(bytes > 0, "memory figure: {}", report["memory"]);
     assert!(report["memory"]["met"].is_boolean());
