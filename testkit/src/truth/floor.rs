@@ -19,9 +19,13 @@
 //! (for a lamp, the segment from a point of the ball to the light stays within the
 //! radius of the centre's segment). Other froxels take the mean over
 //! [`SUBSAMPLES`]^3 stratified points (cell centres of a regular grid in the froxel's
-//! coordinates, where volfog's jitter spreads its samples), each lit when its ray or
-//! segment to the light meets no box; a point inside a box is dark (a shadow map's
-//! depth compare darkens it too).
+//! coordinates, where volfog's jitter spreads its samples) that lie in the medium,
+//! outside every box, each lit when its ray or segment to the light meets no box. The
+//! points inside a box are left out: no fog is there (Mitsuba's medium stops at the
+//! boxes), and the camera sees the fog in front of the box's surface, which its part
+//! of the froxel should not darken. (A depth compare at such a point reads the box's
+//! own shadow; a froxel straddling the ground would be darkened by its part below
+//! it.) A froxel with no point in the medium is dark.
 
 use glam::{UVec3, Vec2, Vec3, Vec4};
 use volfog::cpu::apply::{Volume, fog_coord};
@@ -31,7 +35,7 @@ use volfog::pipeline::FrameInputs;
 use volfog::uniforms::{FogLight, FogLighting, ShadowCascades};
 
 use super::scene::{TruthBox, TruthImage, TruthScene};
-use super::shadow_maps::lit;
+use super::shadow_maps::{inside, lit};
 use super::volfog::{
     TruthError, TruthView, VolfogOptions, fog_config, fog_lights, fog_medium, fog_sun, fog_volumes,
     pixel_depths,
@@ -77,8 +81,9 @@ fn meets(c: Vec3, dir: Vec3, segment: bool, min: Vec3, max: Vec3) -> bool {
 }
 
 /// The mean visibility of `light` over froxel `id`: 1 or 0 where the froxel's ball
-/// cannot hold a shadow boundary, else the mean over [`SUBSAMPLES`]^3 stratified
-/// points; the second value says whether it was sampled. `world_at` maps an offset
+/// cannot hold a shadow boundary, else the mean over those of [`SUBSAMPLES`]^3
+/// stratified points that lie outside every box (0 if none does); the second value
+/// says whether it was sampled. `world_at` maps an offset
 /// from the froxel's centre (froxel units, each in [-0.5, 0.5]) to world space.
 pub fn froxel_visibility(
     light: Occluded,
@@ -112,17 +117,26 @@ pub fn froxel_visibility(
         return (0.0, false);
     }
     let n = SUBSAMPLES;
-    let mut seen = 0u32;
+    let (mut seen, mut counted) = (0u32, 0u32);
     for k in 0..n * n * n {
         let cell = Vec3::new((k % n) as f32, (k / n % n) as f32, (k / (n * n)) as f32);
         let p = world_at((cell + 0.5) / n as f32 - 0.5);
+        if inside(p, boxes) {
+            continue;
+        }
         let towards = match light {
             Occluded::Sun(s) => s,
             Occluded::Lamp(q) => q - p,
         };
+        counted += 1;
         seen += u32::from(lit(p, towards, segment, boxes));
     }
-    (seen as f32 / (n * n * n) as f32, true)
+    let mean = if counted == 0 {
+        0.0
+    } else {
+        seen as f32 / counted as f32
+    };
+    (mean, true)
 }
 
 /// The grid floor of `scene` at `options.config`'s grid (its light transmittance,
@@ -372,12 +386,18 @@ mod tests {
             (0.0, false)
         );
         // A froxel reaching into the ground (y < 0) in the open: the points below its
-        // face (the lowest of four rows) are dark.
+        // face (the lowest of four rows) are left out, the others lit.
         let ground = [TruthBox {
             min: Vec3::new(-100.0, -1.0, -100.0),
             max: Vec3::new(100.0, 0.0, 100.0),
         }];
         let (v, sampled) = froxel_visibility(sun, &ground, at(Vec3::new(5.0, 0.25, 0.0)));
+        assert!(sampled);
+        assert_eq!(v, 1.0);
+        // Under the roof's edge as well: of the 48 points above the ground, the 12 of
+        // x < 0 are dark.
+        let both = [roof[0], ground[0]];
+        let (v, sampled) = froxel_visibility(sun, &both, at(Vec3::new(0.25, 0.25, 0.0)));
         assert!(sampled);
         assert_eq!(v, 0.75);
     }

@@ -18,6 +18,7 @@ use glam::{Mat4, Vec2, Vec3, Vec4};
 use volfog::cpu::ambient::AmbientSh;
 use volfog::cpu::froxel::{ndc_from_uv, view_from_ndc};
 use volfog::limits::{self, InvalidValue, check};
+use volfog::options::ShadowFilter;
 use volfog::pipeline::{FogConfig, FogError, FrameInputs, ShadowedLight, VolumetricFog};
 use volfog::uniforms::{
     DirectionalLight, FogLight, FogMedium, HeightFog, LocalVolume, ShadowCascades, VolumeShape,
@@ -101,11 +102,12 @@ impl VolfogOptions {
         self
     }
 
-    /// The blurred exponential shadow maps of the sun and the lamps at their former
-    /// default: 256 ESM texels per cascade, exponent 40, the lamps' atlas at 256
-    /// texels and exponent 80, the 11-tap blur.
+    /// The blurred exponential shadow maps of the sun and the lamps
+    /// ([`ShadowFilter::Esm`]) at their former default: 256 ESM texels per cascade,
+    /// exponent 40, the lamps' atlas at 256 texels and exponent 80, the 11-tap blur.
     pub fn esm_256(self) -> Self {
         self.with_config(|c| {
+            c.shadow_filter = ShadowFilter::Esm;
             c.esm_resolution = 256;
             c.esm_exponent = 40.0;
             c.esm_blur_radius = 5;
@@ -119,9 +121,10 @@ impl VolfogOptions {
 }
 
 impl Default for VolfogOptions {
-    /// `FogConfig::default()` (160 x 90 x 128 froxels, jitter, temporal blending at
-    /// history weight 0.9, light transmittance, shadowed lamps), [`CONVERGED_FRAMES`]
-    /// frames, lamp maps [`LAMP_MAP_FACTOR`] times the atlas.
+    /// `FogConfig::default()` (160 x 90 x 128 froxels, the compare shadow filter,
+    /// jitter, temporal blending at history weight 0.9, light transmittance, shadowed
+    /// lamps), [`CONVERGED_FRAMES`] frames, lamp maps [`LAMP_MAP_FACTOR`] times the
+    /// atlas.
     fn default() -> Self {
         Self {
             config: FogConfig::default(),
