@@ -7,7 +7,10 @@
 //!
 //! assert_eq!(ScanStep::Wronski.defines(), ["VOLFOG_SCAN_WRONSKI_STEP"]);
 //! let inject = InjectOptions { noise_octaves: 3, ..InjectOptions::default() };
-//! assert_eq!(inject.defines(), ["VOLFOG_INJECT_JITTER", "VOLFOG_INJECT_NOISE_OCTAVES=3"]);
+//! assert_eq!(
+//!     inject.defines(),
+//!     ["VOLFOG_INJECT_JITTER", "VOLFOG_INJECT_NOISE_OCTAVES=3", "VOLFOG_INJECT_NOISE_TEXTURE"]
+//! );
 //! ```
 
 use volfog_codegen::manifest;
@@ -151,7 +154,7 @@ pub struct InjectOptions {
     /// and shadowed lights' depth maps compared at the taps of `ShadowTaps`.
     pub shadow_compare: bool,
     /// Noise read from the baked tileable texture instead of evaluated
-    /// (`VOLFOG_INJECT_NOISE_TEXTURE`).
+    /// (`VOLFOG_INJECT_NOISE_TEXTURE`, on by default).
     pub noise_texture: bool,
     /// Froxels behind their column's live slices skipped (`VOLFOG_FROXEL_CULL`).
     pub depth_cull: bool,
@@ -181,7 +184,7 @@ impl Default for InjectOptions {
             density_texture: false,
             esm_log_space: false,
             shadow_compare: false,
-            noise_texture: false,
+            noise_texture: true,
             depth_cull: false,
             checkerboard: false,
             cloud_shadow: false,

@@ -122,6 +122,8 @@ pub fn small_config() -> FogConfig {
         max_local_volumes: 4,
         jitter: false,
         temporal: false,
+        // The procedural noise, which the CPU mirror evaluates without a texture.
+        noise_texture: false,
         ..FogConfig::default()
     }
 }

@@ -62,7 +62,9 @@ fn the_js_host_runs_the_export_and_matches_the_rust_pipeline() {
         "the example's npm package webgpu is not installed; install it with `{INSTALL}`"
     );
     let gpu = gpu();
+    // The host runs the exported defaults: the ESM filter's passes.
     let config = FogConfig {
+        shadow_filter: volfog::options::ShadowFilter::Esm,
         esm_log_space: false,
         depth_cull: false,
         local_shadows: None,
