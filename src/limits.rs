@@ -168,6 +168,12 @@ pub const NOISE_OCTAVES: Range<u32> =
 pub const MAX_LIGHTS: u32 = 64;
 /// Capacity of the light buffer.
 pub const LIGHTS: Range<u32> = Range::new(0, MAX_LIGHTS, "lights");
+/// Transient lights a frame may hold: the scan evaluates each of them at every live
+/// froxel (they are not culled per block as inject culls its lights).
+pub const MAX_TRANSIENT_LIGHTS: u32 = 16;
+/// Capacity of the transient light buffer (`FogConfig::max_transient_lights`; 0 builds
+/// no transient scan).
+pub const TRANSIENT_LIGHTS: Range<u32> = Range::new(0, MAX_TRANSIENT_LIGHTS, "transient lights");
 /// Capacity of the local volume buffer.
 pub const LOCAL_VOLUMES: Range<u32> = Range::new(0, 256, "volumes");
 /// Weight of the reprojected history.

@@ -271,12 +271,15 @@ pub const MODULES: &[ModuleSource] = &[
 pub const PASSES: &[PassSource] = &[
     pass!(
         "scan",
-        axes: &[Axis::Flag("VOLFOG_SCAN_WRONSKI_STEP"), Axis::Flag("VOLFOG_FROXEL_CULL")],
+        axes: &[Axis::Flag("VOLFOG_SCAN_WRONSKI_STEP"), Axis::Flag("VOLFOG_FROXEL_CULL"),
+            Axis::Flag("VOLFOG_SCAN_TRANSIENT_LIGHTS")],
         values: &[],
         usage: "Dispatch ceil(size.x / 8) x ceil(size.y / 8) x 1 workgroups after the \
                 scattering volume is written; the integrated volume is then read by apply. \
                 Under VOLFOG_FROXEL_CULL binding 3 is this frame's live-slice texture \
-                (froxel_cull), bound as uint."
+                (froxel_cull), bound as uint. VOLFOG_SCAN_TRANSIENT_LIGHTS (frames with \
+                transient lights; binding 1 the stabilised volume): bindings 4, 5, 6 are \
+                FogMedium, TransientLighting and the transient FogLight buffer (>= 1)."
     ),
     pass!(
         "froxel_cull",

@@ -10,18 +10,64 @@
 //   3  texture_2d<u32>: live slices per column from froxel_cull (VOLFOG_FROXEL_CULL only);
 //      slices behind them are not read, and their texels hold the value at the last
 //      live slice (nothing reads them; they stay defined)
-// Defines: VOLFOG_SCAN_WRONSKI_STEP (see volfog::scan), VOLFOG_FROXEL_CULL.
+//   4  uniform FogMedium; 5 uniform TransientLighting; 6 storage, read: array<FogLight>,
+//      the transient lights (4-6 VOLFOG_SCAN_TRANSIENT_LIGHTS only)
+// Defines: VOLFOG_SCAN_WRONSKI_STEP (see volfog::scan), VOLFOG_FROXEL_CULL,
+//   VOLFOG_SCAN_TRANSIENT_LIGHTS: short-lived lights (a muzzle flash, a lightning
+//   strike) light this frame only. Each live froxel's scattering gains
+//   sigma_s * sum_i fog_light_inscatter(light_i) (times fog_light_transmittance where
+//   TransientLighting.transmittance is 1), sigma_s = FogMedium.albedo * sigma_t of the
+//   volume read, at the froxel's centre (no jitter, no shadow, no cookie), before it is
+//   integrated. The scan reads the stabilised volume and writes the integrated one, so
+//   the history never holds these lights, and every froxel gets them whether or not
+//   inject amortises its work over two frames.
 // Reference: Wronski 2014, "Solving scattering equation" (RayMarchThroughVolume).
 
 #import volfog::types::Froxels
 #import volfog::froxel::{slice_walk, ray_scale}
 #import volfog::scan::{scan_step, SCAN_START}
+#ifdef VOLFOG_SCAN_TRANSIENT_LIGHTS
+#import volfog::types::{FogMedium, FogLight, TransientLighting}
+#import volfog::froxel::{ndc_from_uv, slice_depth}
+#import volfog::lights::{fog_light_inscatter, fog_light_transmittance}
+#endif
 
 @group(0) @binding(0) var<uniform> froxels: Froxels;
 @group(0) @binding(1) var scattering: texture_3d<f32>;
 @group(0) @binding(2) var integrated: texture_storage_3d<rgba16float, write>;
 #ifdef VOLFOG_FROXEL_CULL
 @group(0) @binding(3) var live_slices: texture_2d<u32>;
+#endif
+#ifdef VOLFOG_SCAN_TRANSIENT_LIGHTS
+@group(0) @binding(4) var<uniform> fog_medium: FogMedium;
+@group(0) @binding(5) var<uniform> transient: TransientLighting;
+@group(0) @binding(6) var<storage, read> transient_lights: array<FogLight>;
+
+// Radiance scattered towards the eye per unit sigma_s by the transient lights at a
+// world position seen along the unit view_dir. Beyond a light's range or outside its
+// cone its transmittance is not evaluated.
+fn transient_inscatter(world: vec3<f32>, view_dir: vec3<f32>) -> vec3<f32> {
+    let count = min(transient.count, arrayLength(&transient_lights));
+    var light = vec3<f32>(0.0);
+    for (var i = 0u; i < count; i++) {
+        let source = transient_lights[i];
+        var inscatter = fog_light_inscatter(source, world, view_dir, fog_medium.phase_g);
+        if transient.transmittance != 0u && max(inscatter.r, max(inscatter.g, inscatter.b)) > 0.0 {
+            inscatter *= fog_light_transmittance(fog_medium, source, world);
+        }
+        light += inscatter;
+    }
+    return light;
+}
+
+// A froxel's scattering read from the volume with the transient lights' in-scattering
+// added at its centre `world`: sigma_s = FogMedium.albedo * sigma_t, clamped as inject
+// clamps its output.
+fn with_transient_lights(read: vec4<f32>, world: vec3<f32>, view_dir: vec3<f32>) -> vec4<f32> {
+    let sigma_s = fog_medium.albedo * max(read.a, 0.0);
+    return min(vec4<f32>(read.rgb + sigma_s * transient_inscatter(world, view_dir), read.a),
+        vec4<f32>(65504.0));
+}
 #endif
 
 @compute @workgroup_size(8, 8, 1)
@@ -43,9 +89,23 @@ fn scan(@builtin(global_invocation_id) id: vec3<u32>) {
     // (volfog::froxel::slice_walk: no exp and no branch per slice).
     let walk = slice_walk(slices, froxels.near, froxels.far, froxels.curve);
     var front = 0.0;
+#ifdef VOLFOG_SCAN_TRANSIENT_LIGHTS
+    // The column's world-space ray per metre of view depth and the depth of slice 0's
+    // centre beyond near, walked like the boundaries (the walk holds at any offset).
+    let ndc = ndc_from_uv(uv);
+    let ray = transient.ray_origin + transient.ray_x * ndc.x + transient.ray_y * ndc.y;
+    let view_dir = normalize(ray);
+    var middle = slice_depth(0.5 / f32(slices), froxels.near, froxels.far, froxels.curve) - froxels.near;
+#endif
     for (var k = 0u; k < live; k++) {
         let back = front * walk.x + walk.y;
+#ifdef VOLFOG_SCAN_TRANSIENT_LIGHTS
+        let world = transient.camera_position + ray * (froxels.near + middle);
+        let medium = with_transient_lights(textureLoad(scattering, vec3<u32>(id.xy, k), 0), world, view_dir);
+        middle = middle * walk.x + walk.y;
+#else
         let medium = textureLoad(scattering, vec3<u32>(id.xy, k), 0);
+#endif
         acc = scan_step(acc, medium, (back - front) * scale);
         // Clamped to the largest finite rgba16float value so no texel becomes Inf.
         textureStore(integrated, vec3<u32>(id.xy, k), min(acc, vec4<f32>(65504.0)));

@@ -1,7 +1,8 @@
 // volfog::lights — light reaching a point of the medium, and in-scattering towards the
 // eye.
 //
-// Use:      #import volfog::lights::{light_attenuation, fog_light_spot, fog_light_inscatter, ...}
+// Use:      #import volfog::lights::{light_attenuation, fog_light_spot, fog_light_inscatter,
+//           fog_light_transmittance, ...}
 // Defines:  none
 // Units:    positions in metres; a light's colour is its intensity (illuminance at 1 m),
 //           the sun's colour its illuminance; results are radiance scattered per unit
@@ -12,7 +13,8 @@
 //           "Deferred-like light injection" (bounds test per light).
 #define_import_path volfog::lights
 
-#import volfog::types::{DirectionalLight, FogLight}
+#import volfog::types::{DirectionalLight, FogLight, FogMedium}
+#import volfog::density::{medium_light_transmittance, medium_segment_transmittance}
 #import volfog::phase::{phase_hg, phase_hg_sh_l1, phase_sh_l1_radiance, phase_two_color}
 
 // Inverse-square falloff with a smooth range window:
@@ -93,6 +95,16 @@ fn fog_light_inscatter(light: FogLight, world: vec3<f32>, view_dir: vec3<f32>, g
     let spot = fog_light_spot(light, dot(-to_light, light.direction));
     let phase = phase_hg(dot(view_dir, to_light), g);
     return light.color * (light.fog_intensity * attenuation * spot * phase);
+}
+
+// The medium's transmittance between a point of the medium and a light, by its height
+// profile (FogLighting.transmittance): along the segment to a point or spot light, up
+// to the medium's top towards a directional one.
+fn fog_light_transmittance(medium: FogMedium, light: FogLight, world: vec3<f32>) -> f32 {
+    if (light.flags & FOG_LIGHT_DIRECTIONAL) != 0u {
+        return medium_light_transmittance(medium, world, -light.direction);
+    }
+    return medium_segment_transmittance(medium, world, light.position);
 }
 
 // Radiance scattered towards the eye per unit sigma_s by the directional light with

@@ -289,6 +289,29 @@ struct ShadowTaps {
     sun_reversed_z: u32,
 }
 
+// The short-lived lights of a frame (VOLFOG_SCAN_TRANSIENT_LIGHTS of the scan): point,
+// spot and directional lights that light only the frame they are in (a muzzle flash, a
+// lightning strike). The scan adds their in-scattering to every live froxel of the
+// volume it integrates, after the temporal blend, so none of it reaches the history.
+struct TransientLighting {
+    // Camera position in world space (m).
+    camera_position: vec3<f32>,
+    // Number of valid entries in the transient light buffer.
+    count: u32,
+    // The world-space view ray of a screen position per metre of view depth, affine in
+    // its normalised device coordinates, as in ShadowTaps: ray_origin + ray_x * ndc.x +
+    // ray_y * ndc.y. A froxel's centre lies at the camera plus its column's ray times
+    // its view depth.
+    ray_origin: vec3<f32>,
+    // 1: each transient light is attenuated by the medium's height profile on its way
+    // to the froxel, as FogLighting.transmittance; 0: unattenuated.
+    transmittance: u32,
+    // d ray / d ndc.x (per metre of view depth).
+    ray_x: vec3<f32>,
+    // d ray / d ndc.y (per metre of view depth).
+    ray_y: vec3<f32>,
+}
+
 // The camera of a frame, for shaders that start from world positions (the fog group's
 // binding 4).
 struct FogView {

@@ -7,12 +7,13 @@ use glam::{UVec3, Vec3, Vec4};
 use super::clouds::{CloudMap, cloud_shadow};
 use super::density::{
     local_volume_sample, local_volume_sample_textured, local_volume_texture_coord,
-    medium_light_transmittance, medium_segment_transmittance, medium_shape,
+    medium_light_transmittance, medium_shape,
 };
 use super::esm::{Layer, esm_cascade, esm_shadow};
 use super::froxel::froxel_view_position;
 use super::lights::{
-    ambient_inscatter, fog_light_inscatter, sun_inscatter, sun_inscatter_two_color,
+    ambient_inscatter, fog_light_inscatter, fog_light_transmittance, sun_inscatter,
+    sun_inscatter_two_color,
 };
 use super::local_shadow::{
     ColorLayer, light_cookie, local_shadow_compare, local_shadow_visibility,
@@ -242,11 +243,7 @@ pub fn froxel_scattering_taps(inputs: &InjectInputs<'_>, id: UVec3, taps: u32) -
     for light_source in inputs.lights.iter().take(l.light_count as usize) {
         let mut inscatter = fog_light_inscatter(light_source, world, view_dir, m.phase_g);
         if through {
-            inscatter *= if light_source.is_directional() {
-                medium_light_transmittance(m, world, -light_source.direction)
-            } else {
-                medium_segment_transmittance(m, world, light_source.position)
-            };
+            inscatter *= fog_light_transmittance(m, light_source, world);
         }
         if let Some(local) = inputs
             .local_shadows

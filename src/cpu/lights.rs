@@ -10,8 +10,9 @@
 
 use glam::{Vec3, Vec4};
 
+use super::density::{medium_light_transmittance, medium_segment_transmittance};
 use super::phase::{phase_hg, phase_hg_sh_l1, phase_sh_l1_radiance, phase_two_color};
-use crate::uniforms::{DirectionalLight, FOG_LIGHT_SPOT_SQUARED, FogLight};
+use crate::uniforms::{DirectionalLight, FOG_LIGHT_SPOT_SQUARED, FogLight, FogMedium};
 
 /// Inverse square with a smooth range window, bounded by the source radius.
 pub fn light_attenuation(distance: f32, range: f32, radius: f32) -> f32 {
@@ -81,6 +82,17 @@ pub fn fog_light_inscatter(light: &FogLight, world: Vec3, view_dir: Vec3, g: f32
     let spot = fog_light_spot(light, (-to_light).dot(light.direction));
     let phase = phase_hg(view_dir.dot(to_light), g);
     light.color * (light.fog_intensity * attenuation * spot * phase)
+}
+
+/// The medium's transmittance between a point and a light by its height profile:
+/// along the segment to a point or spot light, up to the medium's top towards a
+/// directional one.
+pub fn fog_light_transmittance(medium: &FogMedium, light: &FogLight, world: Vec3) -> f32 {
+    if light.is_directional() {
+        medium_light_transmittance(medium, world, -light.direction)
+    } else {
+        medium_segment_transmittance(medium, world, light.position)
+    }
 }
 
 /// In-scattering per unit sigma_s of the directional light, HG phase.

@@ -27,6 +27,7 @@ pub mod sky;
 pub mod soft_particles;
 pub mod temporal;
 pub mod texture;
+pub mod transient;
 pub mod transparent;
 pub mod water;
 

@@ -1,9 +1,10 @@
 //! The scan pass: integrates the scattering volume front to back into the
-//! integrated volume (`shaders/passes/scan.wgsl`).
+//! integrated volume (`shaders/passes/scan.wgsl`), and its variant that adds the frame's
+//! transient lights on the way (`VOLFOG_SCAN_TRANSIENT_LIGHTS`).
 
 use super::{
-    bind_group, bind_group_layout, compute_pipeline, shader_module, storage_entry, texture_entry,
-    uint_texture_entry, uniform_entry,
+    bind_group, bind_group_layout, compute_pipeline, shader_module, storage_buffer_entry,
+    storage_entry, texture_entry, uint_texture_entry, uniform_entry,
 };
 use crate::limits::InvalidValue;
 use crate::options::{ScanStep, cull_defines};
@@ -12,10 +13,36 @@ use crate::shaders::CodegenError;
 /// Workgroup size of the scan (x, y).
 pub const WORKGROUP: u32 = 8;
 
+/// The define of the scan variant that adds the frame's transient lights.
+pub const TRANSIENT_LIGHTS_DEFINE: &str = "VOLFOG_SCAN_TRANSIENT_LIGHTS";
+
+/// The defines of the scan variant for a step, with or without depth culling and the
+/// transient lights.
+pub fn scan_defines(step: ScanStep, cull: bool, transient_lights: bool) -> Vec<String> {
+    let mut defines = step.defines();
+    defines.extend(cull_defines(cull));
+    if transient_lights {
+        defines.push(TRANSIENT_LIGHTS_DEFINE.to_string());
+    }
+    defines
+}
+
+/// What the transient variant reads besides the volumes (bindings 4 to 6).
+#[derive(Debug, Clone, Copy)]
+pub struct TransientScanResources<'a> {
+    /// The `FogMedium` uniform (the albedo, the phase and the height profile).
+    pub medium: &'a wgpu::Buffer,
+    /// The `TransientLighting` uniform.
+    pub lighting: &'a wgpu::Buffer,
+    /// The transient lights (`FogLight` elements, at least one).
+    pub lights: &'a wgpu::Buffer,
+}
+
 /// The compiled scan pass.
 #[derive(Debug)]
 pub struct ScanPass {
     cull: bool,
+    transient_lights: bool,
     layout: wgpu::BindGroupLayout,
     pipeline: wgpu::ComputePipeline,
 }
@@ -23,8 +50,10 @@ pub struct ScanPass {
 impl ScanPass {
     /// The bind group layout: 0 `Froxels` uniform, 1 scattering volume (3D float,
     /// read with textureLoad), 2 integrated volume (3D rgba16float, write-only storage),
-    /// and with depth culling 3 the live-slice texture (2D uint).
-    pub fn layout_entries(cull: bool) -> Vec<wgpu::BindGroupLayoutEntry> {
+    /// with depth culling 3 the live-slice texture (2D uint), and with the transient
+    /// lights 4 the `FogMedium` uniform, 5 the `TransientLighting` uniform and 6 the
+    /// transient lights (read-only storage).
+    pub fn layout_entries(cull: bool, transient_lights: bool) -> Vec<wgpu::BindGroupLayoutEntry> {
         let c = wgpu::ShaderStages::COMPUTE;
         let mut entries = vec![
             uniform_entry(0, c),
@@ -38,18 +67,45 @@ impl ScanPass {
         if cull {
             entries.push(uint_texture_entry(3));
         }
+        if transient_lights {
+            entries.extend([
+                uniform_entry(4, c),
+                uniform_entry(5, c),
+                storage_buffer_entry(6, c, true),
+            ]);
+        }
         entries
     }
 
     /// Compiles the pass (`cull`: the depth-culling variant, `VOLFOG_FROXEL_CULL`).
     pub fn new(device: &wgpu::Device, step: ScanStep, cull: bool) -> Result<Self, CodegenError> {
-        let mut defines = step.defines();
-        defines.extend(cull_defines(cull));
+        Self::build(device, step, cull, false)
+    }
+
+    /// Compiles the variant that adds the frame's transient lights
+    /// (`VOLFOG_SCAN_TRANSIENT_LIGHTS`).
+    pub fn with_transient_lights(
+        device: &wgpu::Device,
+        step: ScanStep,
+        cull: bool,
+    ) -> Result<Self, CodegenError> {
+        Self::build(device, step, cull, true)
+    }
+
+    fn build(
+        device: &wgpu::Device,
+        step: ScanStep,
+        cull: bool,
+        transient_lights: bool,
+    ) -> Result<Self, CodegenError> {
+        let defines = scan_defines(step, cull, transient_lights);
         let module = shader_module(device, "scan", &defines)?;
-        let layout = bind_group_layout(device, "volfog scan", &Self::layout_entries(cull));
+        let entries = Self::layout_entries(cull, transient_lights);
+        let layout = bind_group_layout(device, "volfog scan", &entries);
         let pipeline = compute_pipeline(device, "volfog scan", &module, "scan", &layout);
         Ok(Self {
             cull,
+            transient_lights,
             layout,
             pipeline,
         })
@@ -61,7 +117,8 @@ impl ScanPass {
     }
 
     /// A bind group for the given resources; `live_slices` is required by the culling
-    /// variant (ignored by the other).
+    /// variant (ignored by the other). For the transient variant see
+    /// [`ScanPass::bind_group_with`].
     pub fn bind_group(
         &self,
         device: &wgpu::Device,
@@ -69,6 +126,20 @@ impl ScanPass {
         scattering: &wgpu::TextureView,
         integrated: &wgpu::TextureView,
         live_slices: Option<&wgpu::TextureView>,
+    ) -> Result<wgpu::BindGroup, InvalidValue> {
+        self.bind_group_with(device, froxels, scattering, integrated, live_slices, None)
+    }
+
+    /// [`ScanPass::bind_group`] with the transient variant's resources, required by it
+    /// (ignored by the others).
+    pub fn bind_group_with(
+        &self,
+        device: &wgpu::Device,
+        froxels: &wgpu::Buffer,
+        scattering: &wgpu::TextureView,
+        integrated: &wgpu::TextureView,
+        live_slices: Option<&wgpu::TextureView>,
+        transient: Option<TransientScanResources<'_>>,
     ) -> Result<wgpu::BindGroup, InvalidValue> {
         let mut resources = vec![
             (0, froxels.as_entire_binding()),
@@ -84,6 +155,22 @@ impl ScanPass {
                 });
             };
             resources.push((3, wgpu::BindingResource::TextureView(live)));
+        }
+        if self.transient_lights {
+            let Some(t) = transient else {
+                return Err(InvalidValue {
+                    field: "ScanPass::bind_group_with transient",
+                    value: "None".to_string(),
+                    expected: "the medium, transient lighting and light buffers for the \
+                               transient-light variant"
+                        .into(),
+                });
+            };
+            resources.extend([
+                (4, t.medium.as_entire_binding()),
+                (5, t.lighting.as_entire_binding()),
+                (6, t.lights.as_entire_binding()),
+            ]);
         }
         Ok(bind_group(device, "volfog scan", &self.layout, &resources))
     }

@@ -232,3 +232,44 @@ pub struct FogLighting {
     /// [`FogConfig::light_transmittance`](crate::pipeline::FogConfig::light_transmittance).
     pub transmittance: u32,
 }
+
+/// The short-lived lights of a frame as the scan's `VOLFOG_SCAN_TRANSIENT_LIGHTS` variant
+/// reads them (WGSL `volfog::types::TransientLighting`): the camera and its view rays
+/// (as [`ShadowTaps`](super::ShadowTaps) holds them), the number of lights in the
+/// transient light buffer and the transmittance switch.
+/// [`VolumetricFog`](crate::pipeline::VolumetricFog) builds it each frame from
+/// [`FrameInputs::transient_lights`](crate::pipeline::FrameInputs::transient_lights).
+#[derive(Debug, Clone, Copy, PartialEq, ShaderType)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub struct TransientLighting {
+    /// Camera position in world space (m).
+    pub camera_position: Vec3,
+    /// Number of lights in the transient light buffer.
+    pub count: u32,
+    /// The world-space view ray per metre of view depth at `ndc` (0, 0); a froxel's
+    /// centre at `ndc` lies at the camera plus `(ray_origin + ray_x ndc.x + ray_y
+    /// ndc.y)` times its view depth ([`crate::cpu::shadow::shadow_tap_rays`]).
+    pub ray_origin: Vec3,
+    /// 1: each transient light is attenuated by the medium's height profile on its way
+    /// to the froxel (as [`FogLighting::transmittance`]); 0: not.
+    pub transmittance: u32,
+    /// The ray's change per unit of `ndc.x`.
+    pub ray_x: Vec3,
+    /// The ray's change per unit of `ndc.y`.
+    pub ray_y: Vec3,
+}
+
+impl Default for TransientLighting {
+    /// No lights, a camera at the origin looking down -Z with a 90 degree square
+    /// frustum, no transmittance.
+    fn default() -> Self {
+        Self {
+            camera_position: Vec3::ZERO,
+            count: 0,
+            ray_origin: Vec3::NEG_Z,
+            transmittance: 0,
+            ray_x: Vec3::X,
+            ray_y: Vec3::Y,
+        }
+    }
+}

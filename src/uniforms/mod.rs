@@ -49,6 +49,7 @@ pub use height_fog::HeightFog;
 pub use hull::FogHull;
 pub use lighting::{
     DirectionalLight, FOG_LIGHT_DIRECTIONAL, FOG_LIGHT_SPOT_SQUARED, FogLight, FogLighting,
+    TransientLighting,
 };
 pub use local_shadow::{
     CUBE_FACE_AXES, LOCAL_SHADOW_NONE, LOCAL_SHADOW_POINT, LOCAL_SHADOW_SPOT, LightCamera,

@@ -11,7 +11,7 @@ use volfog::pipeline::{
 };
 use volfog::uniforms::{
     FogFrame, FogLight, FogLighting, FogMedium, FogView, Froxels, LocalVolume, ShadowCascades,
-    ShadowTaps, VolumeShape,
+    ShadowTaps, TransientLighting, VolumeShape,
 };
 
 use crate::gpu::Gpu;
@@ -276,6 +276,24 @@ pub fn expected_uniforms(
             .to_view_space(view_from_world),
         view: FogView { view_from_world },
         shadow_taps: expected_shadow_taps(config, index, inputs),
+        transient: expected_transient(config, inputs),
+    }
+}
+
+/// The transient lights' uniform: the camera, the view rays per metre of view depth
+/// as the compare filter's taps hold them, the light count, the transmittance switch.
+fn expected_transient(config: &FogConfig, inputs: &FrameInputs<'_>) -> TransientLighting {
+    let taps = expected_shadow_taps(config, 0, inputs);
+    TransientLighting {
+        camera_position: inputs
+            .view_from_world
+            .inverse()
+            .transform_point3(Vec3::ZERO),
+        count: inputs.transient_lights.len() as u32,
+        ray_origin: taps.ray_origin,
+        transmittance: u32::from(config.light_transmittance),
+        ray_x: taps.ray_x,
+        ray_y: taps.ray_y,
     }
 }
 

@@ -31,6 +31,7 @@ mod shared_fog;
 mod sky;
 mod soft_particles;
 mod temporal;
+mod transient;
 mod transparent;
 mod truth;
 mod truth_volfog;

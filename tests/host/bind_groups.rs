@@ -183,7 +183,11 @@ fn runtime_layouts_match_the_shaders() {
         .filter(|v| v.pass.name == "scan")
     {
         let cull = v.defines.contains(&CULL_DEFINE);
-        checked += check(&v.name, &[(0, scan::ScanPass::layout_entries(cull))]);
+        let transient = v.defines.contains(&scan::TRANSIENT_LIGHTS_DEFINE);
+        checked += check(
+            &v.name,
+            &[(0, scan::ScanPass::layout_entries(cull, transient))],
+        );
     }
     for (name, cull) in [("temporal@default", false), ("temporal@FROXEL_CULL", true)] {
         checked += check(name, &[(0, temporal::TemporalPass::layout_entries(cull))]);
@@ -314,7 +318,7 @@ fn runtime_layouts_match_the_shaders() {
 /// loads, and a missing binding.
 #[test]
 fn a_wrong_layout_is_caught() {
-    let mut wrong = scan::ScanPass::layout_entries(false);
+    let mut wrong = scan::ScanPass::layout_entries(false, false);
     if let wgpu::BindingType::Texture { sample_type, .. } = &mut wrong[1].ty {
         *sample_type = wgpu::TextureSampleType::Float { filterable: true };
     }

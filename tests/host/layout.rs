@@ -306,6 +306,14 @@ fn rust_layouts() -> BTreeMap<&'static str, Measured> {
             ray_y: Vec3,
             sun_reversed_z: u32,
         }),
+        measure!(TransientLighting {
+            camera_position: Vec3,
+            count: u32,
+            ray_origin: Vec3,
+            transmittance: u32,
+            ray_x: Vec3,
+            ray_y: Vec3,
+        }),
         measure!(Froxels {
             clip_from_view: Mat4,
             view_from_clip: Mat4,
@@ -405,6 +413,7 @@ fn uniform_structs_serialize_with_wgsl_member_names() {
         ("FogLighting", keys(FogLighting::default())),
         ("ShadowCascades", keys(ShadowCascades::default())),
         ("ShadowTaps", keys(ShadowTaps::default())),
+        ("TransientLighting", keys(TransientLighting::default())),
         ("Froxels", keys(Froxels::default())),
     ]);
     let wgsl = wgsl_layouts();

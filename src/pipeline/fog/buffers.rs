@@ -4,7 +4,7 @@
 use super::{FogConfig, storage_buffer, uniform_buffer};
 use crate::uniforms::{
     self, FogFrame, FogLight, FogLighting, FogMedium, FogView, Froxels, HeightFog, LocalVolume,
-    ShadowCascades, ShadowTaps,
+    ShadowCascades, ShadowTaps, TransientLighting,
 };
 
 /// The uniform and storage buffers of the fog.
@@ -21,6 +21,10 @@ pub(super) struct Buffers {
     pub(super) local_volumes: wgpu::Buffer,
     /// `ShadowTaps` (the compare filter).
     pub(super) shadow_taps: wgpu::Buffer,
+    /// `TransientLighting` (the transient scan).
+    pub(super) transient: wgpu::Buffer,
+    /// The transient lights (`FogConfig::max_transient_lights`, at least one element).
+    pub(super) transient_lights: wgpu::Buffer,
 }
 
 impl Buffers {
@@ -29,6 +33,11 @@ impl Buffers {
         let lights = uniforms::to_storage_bytes(&vec![
             FogLight::default();
             config.max_lights.max(1) as usize
+        ]);
+        let transient_lights = uniforms::to_storage_bytes(&vec![
+            FogLight::default();
+            config.max_transient_lights.max(1)
+                as usize
         ]);
         let volumes = uniforms::to_storage_bytes(&vec![
             LocalVolume::default();
@@ -63,10 +72,19 @@ impl Buffers {
                 "volfog shadow taps",
                 uniforms::to_uniform_bytes(&ShadowTaps::default()),
             ),
+            transient: uniform(
+                "volfog transient lighting",
+                uniforms::to_uniform_bytes(&TransientLighting::default()),
+            ),
+            transient_lights: storage_buffer(
+                device,
+                "volfog transient lights",
+                transient_lights.len(),
+            ),
         }
     }
 
-    pub(super) fn all(&self) -> [&wgpu::Buffer; 10] {
+    pub(super) fn all(&self) -> [&wgpu::Buffer; 12] {
         [
             &self.froxels,
             &self.frame,
@@ -78,6 +96,8 @@ impl Buffers {
             &self.lights,
             &self.local_volumes,
             &self.shadow_taps,
+            &self.transient,
+            &self.transient_lights,
         ]
     }
 }

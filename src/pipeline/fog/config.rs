@@ -40,6 +40,10 @@ pub struct FogConfig {
     pub shadow_reversed_z: bool,
     /// Capacity of the point/spot light buffer.
     pub max_lights: u32,
+    /// Capacity of the transient light buffer
+    /// ([`FrameInputs::transient_lights`](super::FrameInputs::transient_lights)), see
+    /// [`limits::TRANSIENT_LIGHTS`]; 0 builds no transient scan (the default is 8).
+    pub max_transient_lights: u32,
     /// Capacity of the local volume buffer.
     pub max_local_volumes: u32,
     /// Jitter froxel samples each frame (Halton 2, 3, 5).
@@ -161,6 +165,7 @@ impl Default for FogConfig {
             esm_blur_radius: esm.blur_radius,
             shadow_reversed_z: esm.reversed_z,
             max_lights: limits::MAX_LIGHTS,
+            max_transient_lights: 8,
             max_local_volumes: 16,
             jitter: inject.jitter,
             temporal: true,
@@ -206,6 +211,8 @@ impl FogConfig {
             .check("FogConfig.esm_exponent", self.esm_exponent)?;
         limits::ESM_BLUR_RADIUS.check("FogConfig.esm_blur_radius", self.esm_blur_radius)?;
         limits::LIGHTS.check("FogConfig.max_lights", self.max_lights)?;
+        limits::TRANSIENT_LIGHTS
+            .check("FogConfig.max_transient_lights", self.max_transient_lights)?;
         limits::LOCAL_VOLUMES.check("FogConfig.max_local_volumes", self.max_local_volumes)?;
         limits::HISTORY_WEIGHT.check("FogConfig.history_weight", self.history_weight)?;
         limits::NOISE_OCTAVES.check("FogConfig.noise_octaves", self.noise_octaves)?;

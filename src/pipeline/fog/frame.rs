@@ -40,6 +40,15 @@ impl VolumetricFog {
         queue.write_buffer(&b.tail, 0, &u.tail.to_bytes());
         self.tail = crate::pipeline::apply::Tail::of(&u.tail);
         queue.write_buffer(&b.view, 0, &uniforms::to_uniform_bytes(&u.view));
+        queue.write_buffer(&b.transient, 0, &uniforms::to_uniform_bytes(&u.transient));
+        if !inputs.transient_lights.is_empty() {
+            queue.write_buffer(
+                &b.transient_lights,
+                0,
+                &uniforms::to_storage_bytes(inputs.transient_lights),
+            );
+        }
+        self.transient_lights = u.transient.count;
         let lights = plan.as_ref().map_or(inputs.lights, |p| p.lights.as_slice());
         if !lights.is_empty() {
             queue.write_buffer(&b.lights, 0, &uniforms::to_storage_bytes(lights));
@@ -99,7 +108,8 @@ impl VolumetricFog {
     }
 
     /// Records depth culling, ESM downsample -> blur, the local-light shadow atlas,
-    /// inject -> temporal -> scan for the prepared frame.
+    /// inject -> temporal -> scan for the prepared frame (the scan adds the frame's
+    /// transient lights, if any).
     pub fn encode(&self, encoder: &mut wgpu::CommandEncoder) -> Result<(), FogError> {
         for pass in FogPass::ALL {
             self.encode_pass(encoder, pass)?;
@@ -188,8 +198,12 @@ impl VolumetricFog {
                 pass.encode(&mut compute, &groups[parity], size, indirect);
             }
             FogPass::Scan => {
-                self.scan
-                    .encode(&mut compute, &self.scan_groups[parity], [size[0], size[1]]);
+                // The transient variant only for frames with transient lights.
+                let (pass, groups) = match &self.scan_transient {
+                    Some((pass, groups)) if self.transient_lights > 0 => (pass, groups),
+                    _ => (&self.scan, &self.scan_groups),
+                };
+                pass.encode(&mut compute, &groups[parity], [size[0], size[1]]);
             }
             FogPass::Cull => {
                 let (pass, (_, _, groups)) = cull.expect("checked above");

@@ -7,7 +7,7 @@ use super::textures::{CloudShadow, Culling, Density, Noise, Temporal};
 use super::{FogError, VolumetricFog, array_view, view};
 use crate::pipeline::esm::EsmPasses;
 use crate::pipeline::inject::{InjectPass, InjectResources, InjectTemporalResources};
-use crate::pipeline::scan::ScanPass;
+use crate::pipeline::scan::{ScanPass, TransientScanResources};
 use crate::pipeline::temporal::{TemporalPass, TemporalResources};
 
 impl VolumetricFog {
@@ -133,7 +133,8 @@ pub(super) fn temporal_groups(
     })
 }
 
-/// The scan bind groups of both parities.
+/// The scan bind groups of both parities (with the transient variant's buffers, which
+/// the other variants ignore).
 pub(super) fn scan_groups(
     device: &wgpu::Device,
     scan: &ScanPass,
@@ -152,8 +153,20 @@ pub(super) fn scan_groups(
             (None, Some(out)) => (scattering_view.clone(), view(out)),
             (None, None) => unreachable!("the integrated volume exists without temporal"),
         };
-        scan.bind_group(device, &buffers.froxels, &input, &output, live_view(p))
-            .expect("the fog binds live slices whenever it culls")
+        let transient = TransientScanResources {
+            medium: &buffers.medium,
+            lighting: &buffers.transient,
+            lights: &buffers.transient_lights,
+        };
+        scan.bind_group_with(
+            device,
+            &buffers.froxels,
+            &input,
+            &output,
+            live_view(p),
+            Some(transient),
+        )
+        .expect("the fog binds live slices whenever it culls")
     })
 }
 

@@ -12,7 +12,7 @@ use crate::limits::{InvalidValue, check};
 use crate::options::ShadowFilter;
 use crate::uniforms::{
     CloudLayer, DirectionalLight, FogFrame, FogLight, FogLighting, FogMedium, FogView, Froxels,
-    HeightFog, LocalVolume, ShadowCascades, ShadowTaps,
+    HeightFog, LocalVolume, ShadowCascades, ShadowTaps, TransientLighting,
 };
 
 /// The uniforms one frame's inputs become: what
@@ -38,6 +38,9 @@ pub struct FrameUniforms {
     /// Where the compare filter tests the lights' visibility within a froxel (see
     /// [`ShadowFilter::Compare`]).
     pub shadow_taps: ShadowTaps,
+    /// The camera and the count of the transient lights (the scan's
+    /// `VOLFOG_SCAN_TRANSIENT_LIGHTS` variant, run on frames with transient lights).
+    pub transient: TransientLighting,
 }
 
 /// Per-frame inputs.
@@ -58,6 +61,16 @@ pub struct FrameInputs<'a> {
     pub ambient: AmbientSh,
     /// Point and spot lights (at most `FogConfig::max_lights`).
     pub lights: &'a [FogLight],
+    /// Short-lived point, spot and directional lights (a muzzle flash, a lightning
+    /// strike) that light this frame only, at most `FogConfig::max_transient_lights`.
+    /// The scan adds their in-scattering to every live froxel of the volume it
+    /// integrates, after the temporal blend: none of it enters the history (the next
+    /// frame is as if they never existed), and the fog shows their whole contribution
+    /// at once, not the history-weighted share an ordinary light would show in its
+    /// first frame. They are evaluated at each froxel's centre (no jitter), unshadowed
+    /// (`FogLight::projection` is ignored), without cookies, with the medium's phase and
+    /// (with `FogConfig::light_transmittance`) its transmittance.
+    pub transient_lights: &'a [FogLight],
     /// Local volumes (at most `FogConfig::max_local_volumes`).
     pub local_volumes: &'a [LocalVolume],
     /// Point and spot lights of `lights` with a shadow camera: their shadow maps and
@@ -89,6 +102,7 @@ impl FrameInputs<'_> {
             sun: DirectionalLight::default(),
             ambient: AmbientSh::constant(Vec3::new(0.08, 0.1, 0.14)),
             lights: &[],
+            transient_lights: &[],
             local_volumes: &[],
             shadowed_lights: &[],
             cascades: ShadowCascades::default(),
@@ -134,6 +148,18 @@ impl FrameInputs<'_> {
             ),
         )?;
         for light in self.lights {
+            light.validate()?;
+        }
+        check(
+            self.transient_lights.len() <= config.max_transient_lights as usize,
+            "FrameInputs.transient_lights",
+            self.transient_lights.len(),
+            format!(
+                "at most FogConfig.max_transient_lights = {} lights",
+                config.max_transient_lights
+            ),
+        )?;
+        for light in self.transient_lights {
             light.validate()?;
         }
         check(
@@ -191,6 +217,14 @@ impl FrameInputs<'_> {
             // Without a history every froxel takes the taps of one that has none.
             shadow_taps.count = shadow_taps.fresh;
         }
+        let transient = TransientLighting {
+            camera_position: world_from_view.w_axis.truncate(),
+            count: self.transient_lights.len() as u32,
+            ray_origin: rays[0],
+            transmittance: u32::from(config.light_transmittance),
+            ray_x: rays[1],
+            ray_y: rays[2],
+        };
         let frame = FogFrame {
             world_from_view,
             clip_from_world: self.clip_from_view * self.view_from_world,
@@ -227,6 +261,7 @@ impl FrameInputs<'_> {
                 view_from_world: self.view_from_world,
             },
             shadow_taps,
+            transient,
         })
     }
 }
@@ -256,5 +291,58 @@ mod tests {
         let err = inputs.validate(&config).unwrap_err();
         assert_eq!(err.field, "LocalVolume.density");
         assert_eq!(err.expected, limits::LOCAL_VOLUME_DENSITY.describe());
+    }
+
+    #[test]
+    fn transient_lights_are_checked_against_their_capacity_and_as_lights() {
+        let config = FogConfig {
+            max_transient_lights: 1,
+            ..FogConfig::default()
+        };
+        let proj = glam::camera::rh::proj::directx::perspective(1.0, 1.5, 0.1, 100.0);
+        let flash = FogLight::point(Vec3::new(0.0, 1.0, -3.0), Vec3::splat(50.0), 8.0);
+        let two = [flash, flash];
+        let inputs = FrameInputs {
+            transient_lights: &two,
+            ..FrameInputs::new(Mat4::IDENTITY, proj, 0.0)
+        };
+        let err = inputs.validate(&config).unwrap_err();
+        assert_eq!(err.field, "FrameInputs.transient_lights");
+        assert_eq!(err.value, "2");
+        assert_eq!(
+            err.expected,
+            "at most FogConfig.max_transient_lights = 1 lights"
+        );
+        let dark = [FogLight {
+            color: Vec3::new(1.0, f32::NAN, 0.0),
+            ..flash
+        }];
+        let inputs = FrameInputs {
+            transient_lights: &dark,
+            ..inputs
+        };
+        assert_eq!(
+            inputs.validate(&config).unwrap_err().field,
+            "FogLight.color"
+        );
+        let one = [flash];
+        let inputs = FrameInputs {
+            transient_lights: &one,
+            ..inputs
+        };
+        let u = inputs.uniforms(&config, 0).unwrap();
+        assert_eq!(u.transient.count, 1);
+        assert_eq!(
+            u.lighting.light_count, 0,
+            "transient lights are not inject's"
+        );
+        let bad = FogConfig {
+            max_transient_lights: limits::MAX_TRANSIENT_LIGHTS + 1,
+            ..FogConfig::default()
+        };
+        assert_eq!(
+            bad.validate().unwrap_err().field,
+            "FogConfig.max_transient_lights"
+        );
     }
 }

@@ -97,6 +97,9 @@ pub struct VolumetricFog {
     /// maps or cookies are set: frames with a shadowed or cookied light.
     inject_shadowed: Option<(InjectPass, [wgpu::BindGroup; 2])>,
     scan: ScanPass,
+    /// The scan that adds the transient lights and its bind groups by parity
+    /// (`FogConfig::max_transient_lights` > 0): frames with transient lights.
+    scan_transient: Option<(ScanPass, [wgpu::BindGroup; 2])>,
     buffers: Buffers,
     /// Inject output; with temporal reprojection also the scan output (the integrated
     /// volume).
@@ -115,6 +118,8 @@ pub struct VolumetricFog {
     /// Inject bind groups by frame parity (they differ in the live-slice texture).
     inject_groups: [wgpu::BindGroup; 2],
     scan_groups: [wgpu::BindGroup; 2],
+    /// Transient lights of the prepared frame.
+    transient_lights: u32,
     shadow_map: Option<ShadowMap>,
     fog_layout: wgpu::BindGroupLayout,
     fog_group: wgpu::BindGroup,
@@ -216,15 +221,26 @@ impl VolumetricFog {
         };
         let integrated =
             (!config.temporal).then(|| volume_texture(device, "volfog integrated", size));
-        let scan_groups = scan_groups(
-            device,
-            &scan,
-            &buffers,
-            &scattering_view,
-            temporal.as_ref(),
-            integrated.as_ref(),
-            culling.as_ref(),
-        );
+        let scan_groups_of = |scan: &ScanPass| {
+            scan_groups(
+                device,
+                scan,
+                &buffers,
+                &scattering_view,
+                temporal.as_ref(),
+                integrated.as_ref(),
+                culling.as_ref(),
+            )
+        };
+        let scan_groups = scan_groups_of(&scan);
+        let scan_transient = if config.max_transient_lights > 0 {
+            let pass =
+                ScanPass::with_transient_lights(device, config.scan_step, config.depth_cull)?;
+            let groups = scan_groups_of(&pass);
+            Some((pass, groups))
+        } else {
+            None
+        };
 
         let esm_texture = esm_texture(device, "volfog esm", esm_side(config), config.cascades);
         let esm_scratch = esm_texture_scratch(device, config);
@@ -310,6 +326,7 @@ impl VolumetricFog {
             inject,
             inject_shadowed: None,
             scan,
+            scan_transient,
             buffers,
             scattering,
             integrated,
@@ -324,6 +341,7 @@ impl VolumetricFog {
             local_shadows,
             inject_groups,
             scan_groups,
+            transient_lights: 0,
             shadow_map: None,
             fog_layout,
             fog_group,
