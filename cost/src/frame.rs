@@ -95,6 +95,7 @@ pub fn runtime_variants(config: &FogConfig) -> Vec<RuntimeVariant> {
     let mut scan = config.scan_step.defines();
     scan.extend(cull_defines(config.depth_cull));
     v.push(RuntimeVariant::new("scan", scan, "every frame"));
+    v.extend(crate::transient::transient_variant(config));
     if config.noise_texture {
         v.push(RuntimeVariant::new("noise_bake", Vec::new(), "once"));
     }

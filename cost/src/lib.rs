@@ -12,7 +12,8 @@
 //!   count instead of ACO's static weights, against the memory floor, on a named GPU
 //!   ([`GpuModel`]);
 //! * [`frame`]: the pipelines the runtime creates for a `FogConfig` and the passes of
-//!   one frame with their dispatch sizes and trip counts.
+//!   one frame with their dispatch sizes and trip counts; [`transient`]: the scan of a
+//!   frame with transient lights.
 //!
 //! RADV chooses the chip its null device stands for from `RADV_FORCE_FAMILY` when a
 //! Vulkan instance is created, so each chip compiles in a worker process of its own
@@ -35,6 +36,7 @@ pub mod measure;
 pub mod model;
 pub mod pipeline;
 pub mod stats;
+pub mod transient;
 pub mod worker;
 pub mod workload;
 

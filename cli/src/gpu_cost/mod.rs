@@ -11,6 +11,7 @@
 
 mod inputs;
 mod table;
+mod transient;
 
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -26,6 +27,7 @@ use volfog_cost::{Chip, CostError, GpuModel, MODELS, ShaderStats};
 
 pub use inputs::{SCREEN, WRONSKI_GRID, configs};
 pub use table::table;
+pub use transient::{TRANSIENT_LIGHT_COUNTS, TransientModel};
 
 /// Arguments of `volfog gpu-cost`.
 #[derive(Debug, Clone, clap::Args)]
@@ -138,6 +140,8 @@ pub struct Report {
     pub frames: Vec<FrameModel>,
     /// The same frames with each shadow filter ([`SHADOW_FILTERS`]).
     pub filters: Vec<FilterModel>,
+    /// The frames' scan with transient lights ([`TRANSIENT_LIGHT_COUNTS`]).
+    pub transient: Vec<TransientModel>,
 }
 
 /// The shadow filters the report sets side by side: the compare filter with one (the
@@ -311,16 +315,23 @@ pub fn run(args: &GpuCostArgs, worker: &Worker) -> Result<Report, GpuCostError> 
     }
     // Every shader once: the listed pipelines, then what the frames add.
     let mut shaders: Vec<Shader> = listed.iter().map(|(s, _)| s.clone()).collect();
+    let transient_plans = transient::plan(&plans)?;
     for p in plans.iter().chain(&filter_plans) {
         let extra = p
             .passes
             .iter()
             .chain(std::iter::once(&p.raymarch))
-            .chain(&p.floors);
-        for (_, s) in extra {
+            .chain(&p.floors)
+            .map(|(_, s)| s);
+        for s in extra {
             if !shaders.iter().any(|k| k.label == s.label) {
                 shaders.push(s.clone());
             }
+        }
+    }
+    for s in transient::shaders(&transient_plans) {
+        if !shaders.iter().any(|k| k.label == s.label) {
+            shaders.push(s.clone());
         }
     }
     let start = std::time::Instant::now();
@@ -426,6 +437,7 @@ pub fn run(args: &GpuCostArgs, worker: &Worker) -> Result<Report, GpuCostError> 
                 .collect(),
         });
     }
+    let transient = transient::models(&transient_plans, &plans, find)?;
     Ok(Report {
         chips: measured
             .iter()
@@ -434,5 +446,6 @@ pub fn run(args: &GpuCostArgs, worker: &Worker) -> Result<Report, GpuCostError> 
         pipelines,
         frames,
         filters,
+        transient,
     })
 }

@@ -207,6 +207,7 @@ pub fn table(report: &Report) -> String {
         frame(&mut out, f);
     }
     filters(&mut out, &report.filters);
+    super::transient::table(&mut out, &report.transient);
     out
 }
 

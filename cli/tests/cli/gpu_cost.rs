@@ -408,9 +408,24 @@ fn gpu_cost_models_the_bench_frame_on_the_xbox_one() {
         "{:?}",
         frame.raymarch.corrected.loops
     );
+    // The scan with 1 and 8 transient lights beside the plain scan: each light loop
+    // counted (a missing trip count fails `run` above), more lights costing more.
+    assert_eq!(report.transient.len(), 1);
+    let t = &report.transient[0];
+    assert_eq!(t.gpu, "Xbox One");
+    let plain = frame.passes.iter().find(|p| p.pass.name == "scan").unwrap();
+    assert_eq!(t.scan_ms, plain.estimate.ms);
+    let lights: Vec<f64> = t
+        .scans
+        .iter()
+        .map(|m| m.pass.trips.last().unwrap().1)
+        .collect();
+    assert_eq!(lights, [1.0, 8.0]);
+    let extra = t.extra_ms();
+    assert!(extra[0] > 0.0 && extra[1] > extra[0], "{extra:?}");
     let text = volfog_cli::gpu_cost::table(&report);
     assert!(
-        text.contains("## Xbox One") && text.contains("AC4"),
+        text.contains("## Xbox One") && text.contains("AC4") && text.contains("Short-lived lights"),
         "{text}"
     );
 }
