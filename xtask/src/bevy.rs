@@ -100,14 +100,14 @@ pub fn window(channel: &str) -> Command {
 }
 
 /// What only the root suite uses: its dev build, its test scratch space, the web page's
-/// wasm build (and the host side of that release build), the independent compilers'
-/// venv and the Dawn packages (all rebuilt by the next `cargo xtask test`).
-const ROOT_ONLY: [&str; 7] = [
+/// wasm build (and the host side of that release build) and the Dawn packages (all
+/// rebuilt by the next `cargo xtask test`). The tools' venv stays: the Bevy suite's
+/// path-tracer test reads Mitsuba's renders through it.
+const ROOT_ONLY: [&str; 6] = [
     "target/debug",
     "target/tmp",
     "target/release",
     "target/wasm32-unknown-unknown",
-    "target/tools",
     "tools/dawn/node_modules",
     "examples/webgpu-node/node_modules",
 ];
