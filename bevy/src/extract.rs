@@ -11,6 +11,8 @@
 //! The first directional light (the first with shadows, if any) is volfog's sun, with
 //! its cascades; every other directional light is a directional `FogLight`,
 //! unshadowed. Spot lights take Bevy's cone falloff (`FOG_LIGHT_SPOT_SQUARED`).
+//! Lights marked [`TransientFogLight`] become the fog's transient lights instead
+//! (`FrameInputs::transient_lights`), unshadowed.
 
 use std::collections::HashSet;
 
@@ -35,6 +37,7 @@ use crate::light_shadows::{ExtractedLightShadow, local_shadow_config};
 use crate::settings::{
     FogLightSelection, FogVolumeShape, FroxelFog, FroxelFogVolume, FroxelFogVolumeTexture,
 };
+use crate::transient::TransientFogLight;
 
 /// Screen pixels per froxel side that [`FroxelFog::tile_size`] accepts.
 pub const TILE_SIZE: limits::Range<u32> = limits::Range::new(1, 256, "pixels");
@@ -65,6 +68,9 @@ pub struct ExtractedFroxelFog {
     /// The lights that cast shadows in Bevy (their shadow maps are looked up in the
     /// render world each frame).
     pub light_shadows: Vec<ExtractedLightShadow>,
+    /// The lights marked [`TransientFogLight`]: point and spot lights, then directional
+    /// lights (at most `limits::MAX_TRANSIENT_LIGHTS`).
+    pub transient_lights: Vec<FogLight>,
     /// Local volumes.
     pub volumes: Vec<LocalVolume>,
     /// The density texture the textured volumes read (`FroxelFogVolumeTexture`), bound
@@ -84,6 +90,7 @@ impl ExtractedFroxelFog {
             sun: self.sun,
             ambient: self.ambient,
             lights: &self.lights,
+            transient_lights: &self.transient_lights,
             local_volumes: &self.volumes,
             cascades: self.cascades,
             tail: self.tail,
@@ -143,14 +150,15 @@ type FogCameraItems = (
 /// Cameras without fog (their render entity loses any fog of an earlier frame).
 type OtherCameras = (With<Camera>, Without<FroxelFog>);
 
-/// A directional light as the extraction reads it (the last: whether it has
-/// `VolumetricLight`).
+/// A directional light as the extraction reads it (the last two: whether it has
+/// `VolumetricLight`, whether it has `TransientFogLight`).
 type SunItem<'a> = (
     Entity,
     &'a DirectionalLight,
     &'a GlobalTransform,
     Option<&'a Cascades>,
     Option<&'a CascadeShadowConfig>,
+    bool,
     bool,
 );
 
@@ -165,6 +173,7 @@ type SunQuery<'w, 's> = Query<
         Option<&'static Cascades>,
         Option<&'static CascadeShadowConfig>,
         Has<VolumetricLight>,
+        Has<TransientFogLight>,
     ),
 >;
 
@@ -261,6 +270,7 @@ type PointQuery<'w, 's> = Query<
         &'static PointLight,
         &'static GlobalTransform,
         Has<VolumetricLight>,
+        Has<TransientFogLight>,
     ),
 >;
 /// The spot lights as the extraction reads them.
@@ -272,6 +282,7 @@ type SpotQuery<'w, 's> = Query<
         &'static SpotLight,
         &'static GlobalTransform,
         Has<VolumetricLight>,
+        Has<TransientFogLight>,
     ),
 >;
 
@@ -280,19 +291,25 @@ fn selected(fog: &FroxelFog, volumetric: bool) -> bool {
     volumetric || fog.lights == FogLightSelection::All
 }
 
+/// The point and spot lights as the extraction returns them: the fog's lights (the
+/// first [`limits::MAX_LIGHTS`], those with shadow maps first), which of them cast
+/// shadows, and the transient ones.
+type CollectedLights = (Vec<FogLight>, Vec<ExtractedLightShadow>, Vec<FogLight>);
+
 /// The point and spot lights (the first [`limits::MAX_LIGHTS`], those with shadow maps
-/// first) and which of them cast shadows.
+/// first), which of them cast shadows, and those marked [`TransientFogLight`].
 fn collect_lights(
     points: &PointQuery,
     spots: &SpotQuery,
     exposure: f32,
     fog: &FroxelFog,
-) -> (Vec<FogLight>, Vec<ExtractedLightShadow>) {
+) -> CollectedLights {
     let candela = exposure / (4.0 * std::f32::consts::PI);
     let scattering = fog.light_scattering;
     let mut found: Vec<(bool, Entity, FogLight)> = Vec::new();
-    for (entity, light, transform, volumetric) in points.iter() {
-        if !selected(fog, volumetric) {
+    let mut transient = Vec::new();
+    for (entity, light, transform, volumetric, short) in points.iter() {
+        if !selected(fog, volumetric || short) {
             continue;
         }
         let color = rgb(light.color.to_linear()) * (light.intensity * candela);
@@ -301,10 +318,14 @@ fn collect_lights(
             radius: light.radius.max(0.01),
             ..FogLight::point(vec3(transform.translation()), color, light.range)
         };
+        if short {
+            transient.push(fog_light);
+            continue;
+        }
         found.push((light.shadow_maps_enabled, entity, fog_light));
     }
-    for (entity, light, transform, volumetric) in spots.iter() {
-        if !selected(fog, volumetric) {
+    for (entity, light, transform, volumetric, short) in spots.iter() {
+        if !selected(fog, volumetric || short) {
             continue;
         }
         let color = rgb(light.color.to_linear()) * (light.intensity * candela);
@@ -321,6 +342,10 @@ fn collect_lights(
                 light.outer_angle,
             )
         };
+        if short {
+            transient.push(fog_light);
+            continue;
+        }
         found.push((light.shadow_maps_enabled, entity, fog_light));
     }
     found.sort_by_key(|(shadows, ..)| !shadows);
@@ -334,7 +359,11 @@ fn collect_lights(
             entity: *entity,
         })
         .collect();
-    (found.into_iter().map(|(.., l)| l).collect(), shadows)
+    (
+        found.into_iter().map(|(.., l)| l).collect(),
+        shadows,
+        transient,
+    )
 }
 
 /// Builds one camera's fog, or the first value out of range.
@@ -342,7 +371,7 @@ fn extracted<'a>(
     fog: &FroxelFog,
     scene: &Scene<'_>,
     suns: impl Iterator<Item = SunItem<'a>>,
-    (mut lights, light_shadows): (Vec<FogLight>, Vec<ExtractedLightShadow>),
+    (mut lights, light_shadows, mut transient_lights): CollectedLights,
     volumes: &[ExtractedVolume],
     density_texture: Option<AssetId<Image>>,
 ) -> Result<ExtractedFroxelFog, InvalidValue> {
@@ -381,7 +410,17 @@ fn extracted<'a>(
         exponent: fog.esm_exponent,
         ..Default::default()
     };
-    let mut suns: Vec<_> = suns.filter(|(.., v)| selected(fog, *v)).collect();
+    let (short, mut suns): (Vec<_>, Vec<_>) = suns
+        .filter(|(.., v, t)| selected(fog, *v || *t))
+        .partition(|(.., t)| *t);
+    transient_lights.extend(short.iter().map(|(_, light, transform, ..)| FogLight {
+        fog_intensity: fog.sun_scattering,
+        ..FogLight::directional(
+            vec3(-*transform.forward()),
+            rgb(light.color.to_linear()) * (light.illuminance * scene.exposure),
+        )
+    }));
+    transient_lights.truncate(limits::MAX_TRANSIENT_LIGHTS as usize);
     suns.sort_by_key(|(entity, light, ..)| (!light.shadow_maps_enabled, *entity));
     let others = suns
         .iter()
@@ -396,7 +435,7 @@ fn extracted<'a>(
     let at = light_shadows.len().min(lights.len());
     lights.splice(at..at, others);
     lights.truncate(limits::MAX_LIGHTS as usize);
-    if let Some((_, light, transform, light_cascades, config, _)) = suns.first() {
+    if let Some((_, light, transform, light_cascades, config, ..)) = suns.first() {
         sun.direction = vec3(-*transform.forward());
         sun.color = rgb(light.color.to_linear()) * (light.illuminance * scene.exposure);
         sun.fog_intensity = fog.sun_scattering;
@@ -483,6 +522,7 @@ fn extracted<'a>(
         esm_log_space: true,
         shadow_reversed_z: true,
         max_lights: limits::MAX_LIGHTS,
+        max_transient_lights: limits::MAX_TRANSIENT_LIGHTS,
         max_local_volumes: MAX_VOLUMES,
         density_texture: density_texture.is_some(),
         jitter: fog.temporal,
@@ -511,6 +551,7 @@ fn extracted<'a>(
         ambient,
         lights,
         light_shadows,
+        transient_lights,
         volumes,
         density_texture,
         cascades,

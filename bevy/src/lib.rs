@@ -48,10 +48,12 @@
 //! lights unshadowed, by every `PointLight` and `SpotLight` (those with shadows through
 //! Bevy's own shadow maps, within [`FroxelFog`]'s budget; spot cones as on Bevy's
 //! surfaces), and by the `GlobalAmbientLight`; [`FroxelFog::lights`] can restrict it to
-//! the lights with `VolumetricLight`, as Bevy's fog. It is applied to the opaque scene
-//! after Bevy's opaque pass, and transparent materials apply it themselves by
-//! importing the `volfog` WESL package (see [`FoggedGlassMaterial`]). A scene written
-//! for Bevy's `VolumetricFog` and `FogVolume` renders with volfog under
+//! the lights with `VolumetricLight`, as Bevy's fog. A light marked
+//! [`TransientFogLight`] (a muzzle flash, a lightning strike) lights the fog of the
+//! frames it is in only, whole, and leaves no trail in its history. It is applied to
+//! the opaque scene after Bevy's opaque pass, and transparent materials apply it
+//! themselves by importing the `volfog` WESL package (see [`FoggedGlassMaterial`]). A
+//! scene written for Bevy's `VolumetricFog` and `FogVolume` renders with volfog under
 //! [`BevyFogCompat`].
 //!
 //! ```no_run
@@ -76,6 +78,7 @@ pub mod material;
 mod msaa;
 mod render;
 mod settings;
+mod transient;
 pub mod wesl;
 
 use bevy::asset::embedded_asset;
@@ -97,6 +100,7 @@ pub use settings::{
     FogLightSelection, FogMediumSettings, FogVolumeShape, FroxelFog, FroxelFogVolume,
     FroxelFogVolumeTexture,
 };
+pub use transient::TransientFogLight;
 pub use volfog;
 
 /// Froxel volumetric fog for every camera with [`FroxelFog`], the `volfog` WESL
