@@ -29,7 +29,7 @@
 #ifdef VOLFOG_SCAN_TRANSIENT_LIGHTS
 #import volfog::types::{FogMedium, FogLight, TransientLighting}
 #import volfog::froxel::{ndc_from_uv, slice_depth}
-#import volfog::lights::{fog_light_inscatter, fog_light_transmittance}
+#import volfog::lights::{light_touches_sphere, fog_light_inscatter, fog_light_transmittance}
 #endif
 
 @group(0) @binding(0) var<uniform> froxels: Froxels;
@@ -44,13 +44,17 @@
 @group(0) @binding(6) var<storage, read> transient_lights: array<FogLight>;
 
 // Radiance scattered towards the eye per unit sigma_s by the transient lights at a
-// world position seen along the unit view_dir. Beyond a light's range or outside its
-// cone its transmittance is not evaluated.
+// world position seen along the unit view_dir. A point or spot light is skipped beyond
+// its range (where its light is 0), and its transmittance is not evaluated outside its
+// cone.
 fn transient_inscatter(world: vec3<f32>, view_dir: vec3<f32>) -> vec3<f32> {
     let count = min(transient.count, arrayLength(&transient_lights));
     var light = vec3<f32>(0.0);
     for (var i = 0u; i < count; i++) {
         let source = transient_lights[i];
+        if !light_touches_sphere(source, world, 0.0) {
+            continue;
+        }
         var inscatter = fog_light_inscatter(source, world, view_dir, fog_medium.phase_g);
         if transient.transmittance != 0u && max(inscatter.r, max(inscatter.g, inscatter.b)) > 0.0 {
             inscatter *= fog_light_transmittance(fog_medium, source, world);

@@ -45,7 +45,7 @@ use glam::{Vec2, Vec3, Vec4};
 
 use super::froxel::{ndc_from_uv, ray_scale, slice_depth, slice_walk};
 use super::inject::HALF_MAX;
-use super::lights::{fog_light_inscatter, fog_light_transmittance};
+use super::lights::{fog_light_inscatter, fog_light_transmittance, light_touches_sphere};
 use super::scan::{SCAN_START, scan_step};
 use crate::options::ScanStep;
 use crate::uniforms::{FogLight, FogMedium, Froxels, TransientLighting};
@@ -62,13 +62,15 @@ pub struct TransientScan<'a> {
 }
 
 /// Radiance scattered towards the eye per unit sigma_s by the transient lights at a
-/// world position seen along the unit `view_dir`.
+/// world position seen along the unit `view_dir` (a point or spot light beyond its
+/// range, where its light is 0, is skipped).
 pub fn transient_inscatter(scan: &TransientScan<'_>, world: Vec3, view_dir: Vec3) -> Vec3 {
     let g = scan.medium.phase_g;
     let through = scan.lighting.transmittance != 0;
     scan.lights
         .iter()
         .take(scan.lighting.count as usize)
+        .filter(|light| light_touches_sphere(light, world, 0.0))
         .map(|light| {
             let inscatter = fog_light_inscatter(light, world, view_dir, g);
             if through && inscatter.max_element() > 0.0 {
@@ -211,6 +213,59 @@ mod tests {
                 }
             }
         }
+    }
+
+    /// Skipping a point or spot light beyond its range changes nothing: its light there
+    /// is exactly 0 (the range window), at random points in and out of range.
+    #[test]
+    fn skipping_lights_beyond_their_range_is_exact() {
+        let mut rng = crate::cpu::TestRng(7);
+        let medium = FogMedium::default();
+        let lights = [
+            FogLight::point(Vec3::new(1.0, 2.0, -4.0), Vec3::new(30.0, 20.0, 10.0), 6.0),
+            FogLight::spot(
+                Vec3::new(-2.0, 5.0, -9.0),
+                Vec3::NEG_Y,
+                Vec3::splat(80.0),
+                9.0,
+                0.3,
+                0.6,
+            ),
+        ];
+        let lighting = TransientLighting {
+            count: 2,
+            ..TransientLighting::default()
+        };
+        let scan = TransientScan {
+            medium: &medium,
+            lighting: &lighting,
+            lights: &lights,
+        };
+        let (mut inside, mut outside) = (0, 0);
+        for _ in 0..2000 {
+            let world = Vec3::new(
+                rng.range(-15.0, 15.0),
+                rng.range(-5.0, 15.0),
+                rng.range(-25.0, 5.0),
+            );
+            let every: Vec3 = lights
+                .iter()
+                .map(|l| fog_light_inscatter(l, world, Vec3::NEG_Z, medium.phase_g))
+                .sum();
+            assert_eq!(
+                transient_inscatter(&scan, world, Vec3::NEG_Z),
+                every,
+                "{world}"
+            );
+            for l in &lights {
+                if light_touches_sphere(l, world, 0.0) {
+                    inside += 1;
+                } else {
+                    outside += 1;
+                }
+            }
+        }
+        assert!(inside > 100 && outside > 100, "{inside} {outside}");
     }
 
     /// A lone point light in fog whose albedo is 0.5: at a froxel the light's
