@@ -185,6 +185,14 @@ pub const MEDIUM_DENSITY: Range<f32> = Range::new(0.0, 1.0e3, "1/m");
 pub const MEDIUM_FALLOFF: Range<f32> = Range::new(0.0, 100.0, "1/m");
 /// Extinction a local volume adds (1/m); negative clears fog.
 pub const LOCAL_VOLUME_DENSITY: Range<f32> = Range::new(-1.0e3, 1.0e3, "1/m");
+/// The density of a local volume that does not add (`BlendMode` other than `Add`): the
+/// extinction it subtracts, caps at, raises to or sets (1/m), or under `Multiply` the
+/// factor of the medium.
+pub const LOCAL_VOLUME_BLEND_DENSITY: Range<f32> = Range::new(
+    0.0,
+    1.0e3,
+    "1/m (a factor under BlendMode::Multiply) for a volume that does not add",
+);
 /// Edge falloff width of a local volume, as a fraction of its unit extent.
 pub const LOCAL_VOLUME_EDGE: Range<f32> = Range::above(0.0, 1.0, "");
 /// Colour channels of the directional light and its tints.

@@ -174,6 +174,10 @@ pub struct InjectOptions {
     /// volume, so the temporal pass does not run
     /// ([`InjectResources::temporal`](crate::pipeline::inject::InjectResources::temporal)).
     pub temporal: bool,
+    /// The user's density function added to the medium
+    /// (`VOLFOG_INJECT_CUSTOM_DENSITY`; composed with the user's module, see
+    /// `FogConfig::custom_density`).
+    pub custom_density: bool,
 }
 
 impl Default for InjectOptions {
@@ -191,6 +195,7 @@ impl Default for InjectOptions {
             local_shadows: false,
             noise_octaves: manifest::INJECT_NOISE_OCTAVES.default,
             temporal: false,
+            custom_density: false,
         }
     }
 }
@@ -227,6 +232,9 @@ impl InjectOptions {
         }
         if self.temporal {
             d.push("VOLFOG_INJECT_TEMPORAL".to_string());
+        }
+        if self.custom_density {
+            d.push(manifest::CUSTOM_DENSITY.define.to_string());
         }
         d.extend(cull_defines(self.depth_cull));
         if self.noise_octaves != manifest::INJECT_NOISE_OCTAVES.default {

@@ -62,6 +62,12 @@ enum Command {
         /// phase, all).
         #[arg(long, num_args = 0.., value_delimiter = ',')]
         snippets: Option<Vec<String>>,
+        /// Your density function: a WGSL module (naga_oil or WESL imports) defining
+        /// `fn volfog_custom_density(world: vec3<f32>, time: f32, params:
+        /// FogCustomParams) -> FogSample`; the inject pass is exported under
+        /// VOLFOG_INJECT_CUSTOM_DENSITY with it (and the other defines).
+        #[arg(long, value_name = "FILE")]
+        custom_density: Option<PathBuf>,
     },
     /// Render the demo scene headless with the fog pipeline: PNG + per-pass GPU times.
     Demo(demo::DemoArgs),
@@ -110,17 +116,42 @@ fn main() -> ExitCode {
             variant,
             hlsl_samplers,
             snippets,
+            custom_density,
         } => {
+            let (mut variants, mut defines) = (variant, define);
+            let custom_density = match custom_density {
+                Some(path) => match std::fs::read_to_string(&path) {
+                    Ok(source) => {
+                        let hook = volfog_codegen::manifest::CUSTOM_DENSITY;
+                        if !defines.iter().any(|d| d == hook.define) {
+                            defines.push(hook.define.to_string());
+                        }
+                        if variants.is_empty() {
+                            variants.push("inject".to_string());
+                        }
+                        Some(volfog_codegen::custom::CustomModule::new(
+                            path.display().to_string(),
+                            source,
+                        ))
+                    }
+                    Err(e) => {
+                        eprintln!("error: --custom-density {}: {e}", path.display());
+                        return ExitCode::FAILURE;
+                    }
+                },
+                None => None,
+            };
             let request = ExportRequest {
                 out: out.clone(),
                 targets: targets(&target),
-                variants: variant,
-                defines: define,
+                variants,
+                defines,
                 hlsl_samplers: match hlsl_samplers {
                     HlslSamplersArg::Classic => HlslSamplers::Classic,
                     HlslSamplersArg::Heap => HlslSamplers::Heap,
                 },
                 snippets,
+                custom_density,
             };
             match export(&request) {
                 Ok(s) => {

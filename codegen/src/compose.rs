@@ -79,6 +79,13 @@ impl Defines {
                         )));
                     }
                 }
+            } else if pass.hooks.iter().any(|h| h.define == name) {
+                if value.is_some() {
+                    return Err(CodegenError::Define(format!(
+                        "define {name} of pass {} is a flag and takes no value",
+                        pass.name
+                    )));
+                }
             } else if let Some(v) = pass.values.iter().find(|v| v.name == name) {
                 let value = value.ok_or_else(|| {
                     CodegenError::Define(format!(
@@ -105,6 +112,11 @@ impl Defines {
             }
         }
         Ok(())
+    }
+
+    /// Whether the set holds the define `name`.
+    pub fn contains(&self, name: &str) -> bool {
+        self.values.contains_key(name)
     }
 
     /// The variant name of this define set: `pass@default` or `pass@A+B=3` with the
@@ -148,7 +160,8 @@ impl Defines {
     }
 }
 
-/// Every define a pass accepts, for error messages.
+/// Every define a pass accepts, for error messages (a hook's define with the user's
+/// module it needs).
 pub fn valid_defines(pass: &PassSource) -> Vec<String> {
     pass.axes
         .iter()
@@ -157,6 +170,11 @@ pub fn valid_defines(pass: &PassSource) -> Vec<String> {
             pass.values
                 .iter()
                 .map(|v| format!("{}=<{}..={}>", v.name, v.min, v.max)),
+        )
+        .chain(
+            pass.hooks
+                .iter()
+                .map(|h| format!("{} (with a module defining {})", h.define, h.function)),
         )
         .collect()
 }
@@ -209,12 +227,23 @@ pub fn composer() -> Result<Composer, CodegenError> {
     Ok(composer)
 }
 
-/// Composes a pass into one naga module under a define set.
+/// Composes a pass into one naga module under a define set. A hook's define needs the
+/// user's module in the composer ([`crate::custom`]).
 pub fn compose_pass(
     composer: &mut Composer,
     pass: &PassSource,
     defines: &Defines,
 ) -> Result<naga::Module, CodegenError> {
+    if let Some(hook) = pass
+        .hooks
+        .iter()
+        .find(|h| defines.contains(h.define) && !composer.contains_module(h.import_path))
+    {
+        return Err(CodegenError::CustomModuleMissing {
+            define: hook.define.to_string(),
+            signature: hook.signature.to_string(),
+        });
+    }
     composer
         .make_naga_module(NagaModuleDescriptor {
             source: pass.source,

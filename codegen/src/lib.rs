@@ -54,6 +54,7 @@
 #[cfg(feature = "translate")]
 pub mod c_header;
 pub mod compose;
+pub mod custom;
 #[cfg(feature = "translate")]
 pub mod export;
 pub mod manifest;
@@ -219,6 +220,58 @@ pub enum CodegenError {
     /// A define is not known to the pass, or its value is out of range.
     #[error("{0}")]
     Define(String),
+    /// A hook's define (e.g. `VOLFOG_INJECT_CUSTOM_DENSITY`) was set without the user's
+    /// module that defines its function.
+    #[error(
+        "{define} needs your module defining `{signature}` (VolumetricFog: \
+         FogConfig::custom_density; volfog export: --custom-density FILE)"
+    )]
+    CustomModuleMissing {
+        /// The define.
+        define: String,
+        /// The function's required signature.
+        signature: String,
+    },
+    /// The user's module for a hook does not define its function.
+    #[error("{file}: no function `{function}`; define `{signature}`")]
+    CustomFunctionMissing {
+        /// The user's file.
+        file: String,
+        /// The function's name.
+        function: String,
+        /// Its required signature.
+        signature: String,
+    },
+    /// The user's module defines the hook's function with another signature.
+    #[error(
+        "{file}:{line}:{column}: `{function}` does not have the required signature \
+         `{signature}`: {message}"
+    )]
+    CustomSignature {
+        /// The user's file.
+        file: String,
+        /// 1-based line of the function.
+        line: usize,
+        /// 1-based column of `fn`.
+        column: usize,
+        /// The function's name.
+        function: String,
+        /// Its required signature.
+        signature: String,
+        /// What naga says of the call the pass makes.
+        message: String,
+    },
+    /// The user's module for a hook does not parse, compose or validate; the message
+    /// names its file, line and column.
+    #[error("{message}\nin your module {file}, which must define `{signature}`")]
+    CustomModule {
+        /// The user's file.
+        file: String,
+        /// naga_oil's message (file:line:column and the offending line).
+        message: String,
+        /// The hook function's required signature.
+        signature: String,
+    },
     /// A module uses a naga_oil construct that the WESL translation does not handle.
     #[error("{file}:{line}: cannot translate to WESL: {message}")]
     Wesl {

@@ -174,6 +174,44 @@ const FULLSCREEN_COMPOSITE: RenderState = RenderState {
     cull_mode: "none",
 };
 
+/// A function a pass takes from the user: a define turns it on, and the pass then
+/// imports the function from a module the user writes (added to the composer at
+/// `import_path` by [`crate::custom`]), never from volfog. No prebuilt variant sets the
+/// define; the runtime and the export compose it with the user's module.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Hook {
+    /// The define, e.g. `VOLFOG_INJECT_CUSTOM_DENSITY`.
+    pub define: &'static str,
+    /// Where the user's module is added, e.g. `volfog::custom_density`.
+    pub import_path: &'static str,
+    /// The function the module must define.
+    pub function: &'static str,
+    /// Its required signature, as WGSL.
+    pub signature: &'static str,
+    /// What the module may import from volfog for it (`#import` lines).
+    pub imports: &'static str,
+    /// A shader that calls the function as the pass does: it composes only when the
+    /// signature is right.
+    pub probe: &'static str,
+}
+
+/// The custom density of inject: the user's medium, added at each froxel.
+pub const CUSTOM_DENSITY: Hook = Hook {
+    define: "VOLFOG_INJECT_CUSTOM_DENSITY",
+    import_path: "volfog::custom_density",
+    function: "volfog_custom_density",
+    signature: "fn volfog_custom_density(world: vec3<f32>, time: f32, params: FogCustomParams) \
+                -> FogSample",
+    imports: "#import volfog::types::{FogSample, FogCustomParams}",
+    probe: "#import volfog::types::{FogSample, FogCustomParams}\n\
+            #import volfog::custom_density::volfog_custom_density\n\
+            @group(0) @binding(0) var<uniform> volfog_probe_params: FogCustomParams;\n\
+            @compute @workgroup_size(1)\n\
+            fn volfog_probe() {\n\
+            \x20   let sample: FogSample = volfog_custom_density(vec3<f32>(0.0), 0.0, volfog_probe_params);\n\
+            }\n",
+};
+
 /// A pass: one WGSL file of entry points plus its bindings.
 #[derive(Debug, Clone, Copy)]
 pub struct PassSource {
@@ -194,6 +232,9 @@ pub struct PassSource {
     pub non_filtering_samplers: &'static [&'static str],
     /// The draw's pipeline state for a pass with vertex or fragment entry points.
     pub render: Option<RenderState>,
+    /// Functions the pass takes from the user, each under its define (composed with the
+    /// user's module only: [`crate::custom`]).
+    pub hooks: &'static [Hook],
 }
 
 macro_rules! module {
@@ -207,7 +248,7 @@ macro_rules! module {
 }
 
 macro_rules! pass {
-    ($stem:literal, axes: $axes:expr, values: $values:expr, usage: $usage:expr $(, non_filtering: $nf:expr)? $(, render: $render:expr)?) => {
+    ($stem:literal, axes: $axes:expr, values: $values:expr, usage: $usage:expr $(, non_filtering: $nf:expr)? $(, render: $render:expr)? $(, hooks: $hooks:expr)?) => {
         PassSource {
             name: $stem,
             file: concat!("shaders/passes/", $stem, ".wgsl"),
@@ -217,6 +258,7 @@ macro_rules! pass {
             usage: $usage,
             non_filtering_samplers: pass!(@or $($nf)?; &[]),
             render: pass!(@or $(Some($render))?; None),
+            hooks: pass!(@or $($hooks)?; &[]),
         }
     };
     (@or $value:expr; $default:expr) => { $value };
@@ -402,8 +444,12 @@ pub const PASSES: &[PassSource] = &[
                 bindings 29 and 30 are the spot lights' shadow maps and the point lights' \
                 cube maps (six layers a cube), 2D arrays of depth bound as unfilterable \
                 float (bind a 1 x 1 array where there is none), which \
-                LightProjection.layer indexes directly.",
-        non_filtering: &["gather_sampler"]
+                LightProjection.layer indexes directly. Under \
+                VOLFOG_INJECT_CUSTOM_DENSITY (composed with the user's module, never \
+                prebuilt) binding 31 is the FogCustomParams uniform (128 bytes: eight \
+                vec4 the user's function reads).",
+        non_filtering: &["gather_sampler"],
+        hooks: &[CUSTOM_DENSITY]
     ),
     pass!(
         "local_shadow_downsample",

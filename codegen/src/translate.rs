@@ -217,6 +217,32 @@ pub fn compose_variant(
     with_shared_composer(|composer| generate(composer, pass, &defines, hlsl_samplers))
 }
 
+/// [`compose_variant`] with the users' modules of the pass's hooks
+/// ([`crate::custom`]): a hook's define then composes with the user's function (an
+/// unused module is not added).
+pub fn compose_variant_with(
+    pass_name: &str,
+    defines: &[String],
+    hlsl_samplers: HlslSamplers,
+    modules: &[(&crate::manifest::Hook, &crate::custom::CustomModule)],
+) -> Result<VariantOutput, CodegenError> {
+    let pass = crate::manifest::pass(pass_name).ok_or_else(|| {
+        CodegenError::Define(format!(
+            "unknown pass {pass_name}; passes: {}",
+            PASSES.iter().map(|p| p.name).collect::<Vec<_>>().join(", ")
+        ))
+    })?;
+    let defines = Defines::parse(pass, defines)?;
+    let used: Vec<_> = modules
+        .iter()
+        .copied()
+        .filter(|(hook, _)| pass.hooks.contains(hook) && defines.contains(hook.define))
+        .collect();
+    crate::custom::with_custom_modules(&used, |composer| {
+        generate(composer, pass, &defines, hlsl_samplers)
+    })
+}
+
 fn resource_binding(group: u32, binding: u32) -> naga::ResourceBinding {
     naga::ResourceBinding { group, binding }
 }

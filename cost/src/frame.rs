@@ -282,6 +282,7 @@ pub fn frame_passes(config: &FogConfig, work: &Workload) -> Vec<FramePass> {
         &[
             ("inject: i < light_count", work.light_gather),
             ("inject: i < volume_count", work.volume_gather),
+            ("inject: other < tile_gathered", work.volume_sort),
             (
                 "froxel_scattering: i < volume_count",
                 work.volumes_per_block,
@@ -387,6 +388,7 @@ mod tests {
             lights_per_block: 1.0,
             shadowed_per_block: 0.0,
             volumes_per_block: 0.25,
+            volume_sort: 0.125,
             cascade_steps: 1.0,
             extra_shadow_taps: 0.0,
             scan_live: 40.0,

@@ -16,6 +16,8 @@ use volfog::uniforms::{FogLight, Froxels, LocalVolume};
 pub const WAVE: u32 = 64;
 /// Lights a block gathers at most (`TILE_LIGHTS` of `inject.wgsl`).
 pub const TILE_LIGHTS: u32 = 64;
+/// Local volumes a block gathers at most (`TILE_VOLUMES` of `inject.wgsl`).
+pub const TILE_VOLUMES: u32 = 64;
 /// Froxels per inject block (`volfog::pipeline::cull::BLOCK`).
 pub const BLOCK: [u32; 3] = [4, 4, 8];
 
@@ -76,6 +78,11 @@ pub struct Workload {
     pub shadowed_per_block: f64,
     /// Local volumes gathered per block.
     pub volumes_per_block: f64,
+    /// Iterations per wave of inject's loop that puts the gathered volumes back in
+    /// buffer order (`other < tile_gathered`): the first `tile_gathered` (at most
+    /// `TILE_VOLUMES`) invocations of a block, all in its first wave, run it
+    /// `tile_gathered` times.
+    pub volume_sort: f64,
     /// Iterations per wave of the cascade search (`esm_cascade`).
     pub cascade_steps: f64,
     /// Shadow taps per froxel beyond the first (the compare filter's tap loop).
@@ -141,7 +148,8 @@ impl Workload {
             size.y.div_ceil(BLOCK[1]),
             size.z.div_ceil(BLOCK[2]),
         );
-        let (mut lights, mut shadowed, mut volumes, mut cascade) = (
+        let (mut lights, mut shadowed, mut volumes, mut cascade, mut sorted) = (
+            Mean::default(),
             Mean::default(),
             Mean::default(),
             Mean::default(),
@@ -193,15 +201,19 @@ impl Workload {
                     }
                     lights.add(f64::from(plain.min(TILE_LIGHTS)));
                     shadowed.add(f64::from(with_maps.min(TILE_LIGHTS)));
-                    volumes.add(
-                        frame
-                            .local_volumes
-                            .iter()
-                            .filter(|v| {
-                                volfog::cpu::density::local_volume_touches_sphere(v, center, radius)
-                            })
-                            .count() as f64,
-                    );
+                    let touching = frame
+                        .local_volumes
+                        .iter()
+                        .filter(|v| {
+                            volfog::cpu::density::local_volume_touches_sphere(v, center, radius)
+                        })
+                        .count() as u32;
+                    volumes.add(f64::from(touching));
+                    // The first wave runs the sort, the block's other waves skip it.
+                    sorted.add(f64::from(touching.min(TILE_VOLUMES)));
+                    for _ in 1..group.div_ceil(WAVE) {
+                        sorted.add(0.0);
+                    }
                     // Two waves per block (z 0..4 and 4..8): the cascade search runs as
                     // far as the wave's deepest froxel needs.
                     for half in 0..2u32 {
@@ -281,6 +293,7 @@ impl Workload {
             lights_per_block: lights.get(),
             shadowed_per_block: shadowed.get(),
             volumes_per_block: volumes.get(),
+            volume_sort: sorted.get(),
             cascade_steps: cascade.get(),
             extra_shadow_taps: f64::from(frame.shadow_taps.max(1) - 1),
             scan_live: scan_live.get(),

@@ -44,6 +44,8 @@
 //      0 of block (0, 0, 0) writes this frame's camera into it
 //  26  texture_2d<u32>: live slices the history was written with (with
 //      VOLFOG_FROXEL_CULL; 22-26 VOLFOG_INJECT_TEMPORAL only)
+//  31  uniform FogCustomParams: the custom density's parameters
+//      (VOLFOG_INJECT_CUSTOM_DENSITY only)
 //  27  uniform ShadowTaps: where in each froxel the lights' visibility is tested
 //  28  sampler, non-filtering (nearest), clamp to edge: the shadow maps' gathers
 //  29  texture_2d_array<f32>: the spot lights' shadow maps (depth as unfilterable float)
@@ -53,7 +55,10 @@
 // Lights and local volumes are culled per workgroup: those whose range or extent touches
 // the block's bounding sphere are gathered in workgroup memory (at most 64 lights; when
 // more than 64 local volumes touch a block, every volume is evaluated), so distant ones
-// cost nothing.
+// cost nothing. The local volumes blend into the medium in buffer order
+// (volfog::density::local_volume_blend: add, subtract, multiply, min, max, overwrite):
+// the gathered ones are put back in that order (each finds its rank among them) before
+// any froxel reads them.
 // Shadows. By default the sun's shadow is read from its filtered ESM (and shadowed
 // point and spot lights' from the local-light ESM atlas). Under
 // VOLFOG_INJECT_SHADOW_COMPARE each light's visibility is the mean of
@@ -95,6 +100,15 @@
 //                                   rounded to rgba16float.
 //   VOLFOG_INJECT_SHADOW_COMPARE    the compare filter (see "Shadows" above) instead of
 //                                   the ESM; VOLFOG_ESM_LOG_SPACE does not apply
+//   VOLFOG_INJECT_CUSTOM_DENSITY    the user's medium: a module the composer holds at
+//                                   volfog::custom_density (given by the runtime or
+//                                   the export, never prebuilt) defines
+//                                   fn volfog_custom_density(world: vec3<f32>,
+//                                   time: f32, params: FogCustomParams) -> FogSample;
+//                                   its sample at each froxel's position is added to the
+//                                   medium before the local volumes blend, its albedo
+//                                   mixed in by extinction
+//                                   (volfog::density::medium_with_sample)
 //   VOLFOG_INJECT_LOCAL_SHADOWS     point and spot lights with a projection
 //                                   (FogLight.projection) pass their shadow (in the
 //                                   atlas, or their own depth maps under
@@ -114,9 +128,14 @@
 #else
 #import volfog::noise::noise_animated
 #endif
-#import volfog::density::{medium_shape, medium_light_transmittance, medium_segment_transmittance, local_volume_sample, local_volume_touches_sphere}
+#import volfog::density::{medium_shape, medium_light_transmittance, medium_segment_transmittance, local_volume_blend, local_volume_touches_sphere}
 #ifdef VOLFOG_INJECT_DENSITY_TEXTURE
-#import volfog::density::{local_volume_sample_textured, local_volume_texture_coord}
+#import volfog::density::{local_volume_blend_textured, local_volume_texture_coord}
+#endif
+#ifdef VOLFOG_INJECT_CUSTOM_DENSITY
+#import volfog::types::FogCustomParams
+#import volfog::density::{medium_with_sample, albedo_with_sample}
+#import volfog::custom_density::volfog_custom_density
 #endif
 #ifdef VOLFOG_INJECT_SHADOW_COMPARE
 #import volfog::types::ShadowTaps
@@ -174,6 +193,9 @@
 #ifdef VOLFOG_FROXEL_CULL
 @group(0) @binding(11) var live_slices: texture_2d<u32>;
 @group(0) @binding(14) var<storage, read> live_blocks: array<u32>;
+#endif
+#ifdef VOLFOG_INJECT_CUSTOM_DENSITY
+@group(0) @binding(31) var<uniform> custom_params: FogCustomParams;
 #endif
 #ifdef VOLFOG_INJECT_NOISE_TEXTURE
 @group(0) @binding(12) var noise_texture: texture_3d<f32>;
@@ -357,8 +379,17 @@ fn froxel_scattering(id: vec3<u32>, tile_light_count: u32, tile_volume_count: u3
     let shape = medium_shape(fog_medium, world, noise, texture_factor);
     // rgb the emitted radiance per metre, a the extinction.
     var medium = vec4<f32>(fog_medium.emission, fog_medium.density) * shape;
-    // The gathered volumes, or every volume when more than TILE_VOLUMES touch the block
-    // (one loop, so SIMD hardware that runs both sides of a branch pays once).
+#ifdef VOLFOG_INJECT_CUSTOM_DENSITY
+    // The user's own medium at the sample, added before the local volumes blend.
+    let custom = volfog_custom_density(world, frame.time, custom_params);
+    let albedo = albedo_with_sample(medium, fog_medium.albedo, custom);
+    medium = medium_with_sample(medium, custom);
+#else
+    let albedo = fog_medium.albedo;
+#endif
+    // The gathered volumes (in buffer order), or every volume when more than
+    // TILE_VOLUMES touch the block (one loop, so SIMD hardware that runs both sides of
+    // a branch pays once), each blended into the medium by its mode.
     let gathered = tile_volume_count <= TILE_VOLUMES;
     let all_volumes = min(fog_medium.local_volume_count, arrayLength(&local_volumes));
     let volume_count = select(all_volumes, tile_volume_count, gathered);
@@ -373,9 +404,9 @@ fn froxel_scattering(id: vec3<u32>, tile_light_count: u32, tile_volume_count: u3
             volume_factor = textureSampleLevel(density_texture, density_sampler,
                 local_volume_texture_coord(volume, world), 0.0).r;
         }
-        medium += local_volume_sample_textured(volume, world, volume_factor);
+        medium = local_volume_blend_textured(medium, volume, world, volume_factor);
 #else
-        medium += local_volume_sample(local_volumes[v], world);
+        medium = local_volume_blend(medium, local_volumes[v], world);
 #endif
     }
     let emission = max(medium.rgb, vec3<f32>(0.0));
@@ -445,7 +476,7 @@ fn froxel_scattering(id: vec3<u32>, tile_light_count: u32, tile_volume_count: u3
 #endif
 
     // Clamped to the largest finite rgba16float value so no texel becomes Inf.
-    let sigma_s = fog_medium.albedo * sigma_t;
+    let sigma_s = albedo * sigma_t;
     return min(vec4<f32>(sigma_s * light + emission, sigma_t), vec4<f32>(HALF_MAX));
 }
 
@@ -537,6 +568,22 @@ fn inject(
     let tile_light_count = min(atomicLoad(&tile_count), TILE_LIGHTS);
     // Above TILE_VOLUMES every volume is evaluated.
     let tile_volume_count = atomicLoad(&tile_volume_count);
+    // The volumes blend in buffer order: each gathered index moves to its rank among
+    // them (the number of gathered indices below it; they are distinct).
+    let tile_gathered = min(tile_volume_count, TILE_VOLUMES);
+    var gathered_volume = 0u;
+    var rank = 0u;
+    if local_index < tile_gathered {
+        gathered_volume = tile_volumes[local_index];
+        for (var other = 0u; other < tile_gathered; other++) {
+            rank += select(0u, 1u, tile_volumes[other] < gathered_volume);
+        }
+    }
+    workgroupBarrier();
+    if local_index < tile_gathered {
+        tile_volumes[rank] = gathered_volume;
+    }
+    workgroupBarrier();
 
 #ifdef VOLFOG_INJECT_CHECKERBOARD
     let pair = first + vec3<u32>(local.xy, 2u * local.z);

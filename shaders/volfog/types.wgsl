@@ -108,9 +108,9 @@ struct FogMedium {
     textured: u32,
 }
 
-// A local fog volume added to (or, with negative density, removed from) the medium:
-// a box, ellipsoid, cylinder or cone with an arbitrary transform and a soft edge, which
-// may glow.
+// A local fog volume blended into the medium (added, subtracted, multiplied, min,
+// max or overwritten; see volfog::density::local_volume_blend): a box, ellipsoid,
+// cylinder or cone with an arbitrary transform and a soft edge, which may glow.
 struct LocalVolume {
     // World -> unit shape space: the box [-1, 1]^3, the unit sphere, the cylinder of
     // radius 1 around the y axis for |y| <= 1, or the cone with its apex at y = 1 and a
@@ -119,12 +119,19 @@ struct LocalVolume {
     // Radiance emitted per metre of path inside (linear rgb, W / (sr m^3)), faded with
     // the edge like the density, [0, 1e6].
     emission: vec3<f32>,
-    // Extinction added inside (1/m); negative values clear fog (e.g. indoors).
+    // The volume's extinction inside (1/m), which its blend combines with the medium's:
+    // added (negative values clear fog), subtracted, the min, the max or the value
+    // itself; under LOCAL_VOLUME_MULTIPLY the factor that scales the medium's
+    // extinction and emission.
     density: f32,
     // Width of the edge falloff as a fraction of the unit extent, (0, 1].
     edge: f32,
     // 0 box, 1 ellipsoid, 3 cylinder, 4 cone (the codes of FogVolume.shape).
     shape: u32,
+    // How the volume combines with the medium before it (the global medium, then the
+    // volumes before it in the buffer): 0 add, 1 subtract, 2 multiply, 3 min, 4 max,
+    // 5 overwrite (volfog::density::LOCAL_VOLUME_ADD ...).
+    blend: u32,
     // Added to the density texture's coordinate in this volume (texture units: the unit
     // shape's extent spans [0, 1]); move it to scroll the pattern through the volume.
     texture_offset: vec3<f32>,
@@ -132,6 +139,26 @@ struct LocalVolume {
     // channel at volfog::density::local_volume_texture_coord (in passes that read a
     // density texture, e.g. inject@VOLFOG_INJECT_DENSITY_TEXTURE); 0: they are not.
     textured: u32,
+}
+
+// What a custom density function (VOLFOG_INJECT_CUSTOM_DENSITY: the user's
+// `fn volfog_custom_density(world: vec3<f32>, time: f32, params: FogCustomParams) ->
+// FogSample`) gives at a point: a medium of its own, added to the global medium before
+// the local volumes blend (volfog::density::medium_with_sample).
+struct FogSample {
+    // Single-scattering albedo per channel, [0, 1].
+    albedo: vec3<f32>,
+    // Extinction (1/m), [0, 1e3].
+    extinction: f32,
+    // Radiance emitted per metre of path (linear rgb, W / (sr m^3)), [0, 1e6].
+    emission: vec3<f32>,
+}
+
+// The parameters of a custom density function: eight vec4 the application sets each
+// frame (FrameInputs::custom_params), read by the function as it pleases (inject's
+// binding 31 under VOLFOG_INJECT_CUSTOM_DENSITY).
+struct FogCustomParams {
+    values: array<vec4<f32>, 8>,
 }
 
 // The main directional light (sun or moon).

@@ -6,8 +6,8 @@ use glam::{UVec3, Vec3, Vec4};
 
 use super::clouds::{CloudMap, cloud_shadow};
 use super::density::{
-    local_volume_sample, local_volume_sample_textured, local_volume_texture_coord,
-    medium_light_transmittance, medium_shape,
+    albedo_with_sample, local_volume_blend, local_volume_blend_textured,
+    local_volume_texture_coord, medium_light_transmittance, medium_shape, medium_with_sample,
 };
 use super::esm::{Layer, esm_cascade, esm_shadow};
 use super::froxel::froxel_view_position;
@@ -23,9 +23,28 @@ use super::shadow::{shadow_cascade_compare, shadow_tap_world};
 pub use super::texture::DensityTexture;
 use crate::options::InjectOptions;
 use crate::uniforms::{
-    CloudLayer, FogFrame, FogLight, FogLighting, FogMedium, Froxels, LightProjection, LocalVolume,
-    ShadowCascades, ShadowTaps,
+    CloudLayer, FogCustomParams, FogFrame, FogLight, FogLighting, FogMedium, FogSample, Froxels,
+    LightProjection, LocalVolume, ShadowCascades, ShadowTaps,
 };
+
+/// The custom density of the `VOLFOG_INJECT_CUSTOM_DENSITY` variant on the CPU: the Rust
+/// twin of the user's WGSL `volfog_custom_density` (the formula written twice, as
+/// every volfog module is) and the frame's parameters.
+#[derive(Clone, Copy)]
+pub struct CustomMedium<'a> {
+    /// `(world, time, params) -> FogSample`, as the WGSL function.
+    pub density: &'a dyn Fn(Vec3, f32, &FogCustomParams) -> FogSample,
+    /// The frame's parameters (`FrameInputs::custom_params`).
+    pub params: &'a FogCustomParams,
+}
+
+impl std::fmt::Debug for CustomMedium<'_> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("CustomMedium")
+            .field("params", self.params)
+            .finish_non_exhaustive()
+    }
+}
 
 /// Everything the inject pass reads.
 #[derive(Debug, Clone, Copy)]
@@ -173,6 +192,19 @@ pub fn froxel_scattering(inputs: &InjectInputs<'_>, id: UVec3) -> Vec4 {
 /// [`froxel_scattering`] with `taps` shadow taps for the compare filter (the inject
 /// pass takes `ShadowTaps::fresh` where a froxel has no history).
 pub fn froxel_scattering_taps(inputs: &InjectInputs<'_>, id: UVec3, taps: u32) -> Vec4 {
+    froxel_scattering_with(inputs, id, taps, None)
+}
+
+/// [`froxel_scattering_taps`] of the custom-density variant
+/// (`VOLFOG_INJECT_CUSTOM_DENSITY`) with `custom` its density, or of the others with
+/// `None`: the custom sample at the froxel's position is added to the medium before
+/// the local volumes blend, its albedo mixed in by extinction.
+pub fn froxel_scattering_with(
+    inputs: &InjectInputs<'_>,
+    id: UVec3,
+    taps: u32,
+    custom: Option<CustomMedium<'_>>,
+) -> Vec4 {
     let (world, view_depth) =
         froxel_world_position(inputs.froxels, inputs.frame, id, inputs.options.jitter);
     let view_dir = (world - inputs.frame.camera_position).normalize();
@@ -192,18 +224,26 @@ pub fn froxel_scattering_taps(inputs: &InjectInputs<'_>, id: UVec3, taps: u32) -
     };
     let shape = medium_shape(m, world, noise, texture_factor);
     let mut medium = m.emission.extend(m.density) * shape;
+    let mut albedo = m.albedo;
+    if let Some(c) = custom {
+        let sample = (c.density)(world, inputs.frame.time, c.params);
+        albedo = albedo_with_sample(medium, albedo, &sample);
+        medium = medium_with_sample(medium, &sample);
+    }
+    // In buffer order, each by its blend mode.
     for v in inputs
         .local_volumes
         .iter()
         .take(m.local_volume_count as usize)
     {
-        medium += match (inputs.options.density_texture, inputs.density_texture) {
-            (true, Some(t)) => local_volume_sample_textured(
+        medium = match (inputs.options.density_texture, inputs.density_texture) {
+            (true, Some(t)) => local_volume_blend_textured(
+                medium,
                 v,
                 world,
                 t.sample(local_volume_texture_coord(v, world)),
             ),
-            _ => local_volume_sample(v, world),
+            _ => local_volume_blend(medium, v, world),
         };
     }
     let emission = medium.truncate().max(Vec3::ZERO);
@@ -264,7 +304,7 @@ pub fn froxel_scattering_taps(inputs: &InjectInputs<'_>, id: UVec3, taps: u32) -
     if sigma_t <= 0.0 {
         return emission.extend(0.0).min(Vec4::splat(HALF_MAX));
     }
-    (m.albedo * sigma_t * light + emission)
+    (albedo * sigma_t * light + emission)
         .extend(sigma_t)
         .min(Vec4::splat(HALF_MAX))
 }

@@ -2,12 +2,12 @@
 //! (`shaders/passes/inject.wgsl`).
 
 use super::{
-    bind_group, bind_group_layout, compute_pipeline, sampler_entry, shader_module,
+    bind_group, bind_group_layout, compute_pipeline, sampler_entry, shader_module_with,
     storage_buffer_entry, storage_entry, texture_entry, uint_texture_entry, uniform_entry,
 };
 use crate::limits::InvalidValue;
 pub use crate::options::InjectOptions;
-use crate::shaders::CodegenError;
+use crate::shaders::{CodegenError, CustomModule};
 
 /// Workgroup size of the inject pass: one invocation per froxel of a block of
 /// [`BLOCK`](super::cull::BLOCK) froxels.
@@ -58,6 +58,9 @@ pub struct InjectResources<'a> {
     /// The `ShadowTaps` uniform of the compare-filter variant (required by it, ignored
     /// by the others; the pass brings the maps' non-filtering sampler, binding 28).
     pub shadow_taps: Option<&'a wgpu::Buffer>,
+    /// The `FogCustomParams` uniform of the custom-density variant (binding 31;
+    /// required by it, ignored by the others).
+    pub custom_params: Option<&'a wgpu::Buffer>,
 }
 
 /// The resources of the fused-temporal variant of the inject pass (bindings 22 to 26;
@@ -173,6 +176,9 @@ impl InjectPass {
             ));
             entries.push(sampler_entry(21, c, true));
         }
+        if options.custom_density {
+            entries.push(uniform_entry(31, c));
+        }
         if options.temporal {
             entries.push(texture_entry(22, c, wgpu::TextureViewDimension::D3, true));
             entries.push(sampler_entry(23, c, true));
@@ -185,9 +191,21 @@ impl InjectPass {
         entries
     }
 
-    /// Compiles the variant for `options`.
+    /// Compiles the variant for `options` (without a custom density: see
+    /// [`InjectPass::with_custom_density`]).
     pub fn new(device: &wgpu::Device, options: InjectOptions) -> Result<Self, CodegenError> {
-        let module = shader_module(device, "inject", &options.defines())?;
+        Self::with_custom_density(device, options, None)
+    }
+
+    /// Compiles the variant for `options` with the user's density module, which the
+    /// custom-density variant (`options.custom_density`) needs and the others ignore.
+    pub fn with_custom_density(
+        device: &wgpu::Device,
+        options: InjectOptions,
+        custom_density: Option<&CustomModule>,
+    ) -> Result<Self, CodegenError> {
+        let custom = custom_density.filter(|_| options.custom_density);
+        let module = shader_module_with(device, "inject", &options.defines(), custom)?;
         let layout = bind_group_layout(device, "volfog inject", &Self::layout_entries(&options));
         let pipeline = compute_pipeline(device, "volfog inject", &module, "inject", &layout);
         Ok(Self {
@@ -287,6 +305,15 @@ impl InjectPass {
                 .ok_or_else(|| missing("InjectResources.shadow_taps", "the ShadowTaps uniform"))?;
             resources.push((27, taps.as_entire_binding()));
             resources.push((28, wgpu::BindingResource::Sampler(sampler)));
+        }
+        if self.options.custom_density {
+            let params = r.custom_params.ok_or_else(|| {
+                missing(
+                    "InjectResources.custom_params",
+                    "the FogCustomParams uniform",
+                )
+            })?;
+            resources.push((31, params.as_entire_binding()));
         }
         if let Some(sampler) = &self.history_sampler {
             let t = r.temporal.ok_or_else(|| {

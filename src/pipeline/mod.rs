@@ -148,7 +148,21 @@ pub(crate) fn shader_module(
     pass: &str,
     defines: &[String],
 ) -> Result<wgpu::ShaderModule, CodegenError> {
-    let module = crate::shaders::compose(pass, defines)?;
+    shader_module_with(device, pass, defines, None)
+}
+
+/// [`shader_module`] with the user's custom density module (inject's
+/// `VOLFOG_INJECT_CUSTOM_DENSITY`).
+pub(crate) fn shader_module_with(
+    device: &wgpu::Device,
+    pass: &str,
+    defines: &[String],
+    custom_density: Option<&crate::shaders::CustomModule>,
+) -> Result<wgpu::ShaderModule, CodegenError> {
+    let module = match custom_density {
+        Some(_) => crate::shaders::compose_with_custom(pass, defines, custom_density)?,
+        None => crate::shaders::compose(pass, defines)?,
+    };
     Ok(device.create_shader_module(wgpu::ShaderModuleDescriptor {
         label: Some(&format!("volfog {pass}")),
         source: wgpu::ShaderSource::Naga(Cow::Owned(module)),

@@ -1,5 +1,6 @@
 //! `FogMedium` (the froxel volume's participating medium) and `LocalVolume` (a box,
-//! ellipsoid, cylinder or cone that adds, clears or lights fog).
+//! ellipsoid, cylinder or cone that adds, clears, scales, caps, raises, replaces or
+//! lights fog, by its [`BlendMode`]).
 
 use encase::ShaderType;
 use glam::{Mat4, Vec3};
@@ -152,6 +153,61 @@ pub enum VolumeShape {
     Cone = 4,
 }
 
+/// How a [`LocalVolume`] combines with the medium before it: the global medium, then
+/// the volumes before it in the buffer (`FrameInputs::local_volumes`), in that order
+/// (WGSL `volfog::density::local_volume_blend`). With `m` the medium's (emission,
+/// extinction) and `v` the volume's (`emission`, `density`), channel by channel, faded
+/// in by the volume's edge weight `w` as `m + w (blend(m, v) - m)`:
+///
+/// | mode | blend(m, v) | extinction | emission |
+/// | --- | --- | --- | --- |
+/// | `Add` | `m + v` | plus `density` (negative clears; the sum is clamped at 0 at the end) | plus `emission` |
+/// | `Subtract` | `max(m - v, 0)` | minus `density`, clamped at 0 at once | minus `emission`, clamped at 0 |
+/// | `Multiply` | `m * density` | times `density` | times `density` (`emission` must be 0) |
+/// | `Min` | `min(m, v)` | at most `density` | at most `emission` |
+/// | `Max` | `max(m, v)` | at least `density` | at least `emission` |
+/// | `Overwrite` | `v` | `density` | `emission` |
+///
+/// The scattering follows the extinction (`FogMedium::albedo` times it). Every mode
+/// leaves the medium unchanged where `w` is 0, so volumes stay culled per froxel
+/// block. Only `Add` takes a negative `density`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[repr(u32)]
+pub enum BlendMode {
+    /// Adds the volume's fog (the default).
+    #[default]
+    Add = 0,
+    /// Removes the volume's density and emission from the medium, clamped at zero:
+    /// clears fog indoors (Godot's negative density); volumes after it add fog again.
+    Subtract = 1,
+    /// Scales the medium's extinction and emission by `density` (a factor >= 0).
+    Multiply = 2,
+    /// Caps the medium's extinction at `density` and its emission at `emission`.
+    Min = 3,
+    /// Raises the medium's extinction to at least `density`, its emission to at least
+    /// `emission`.
+    Max = 4,
+    /// Replaces the medium by the volume's density and emission.
+    Overwrite = 5,
+}
+
+impl BlendMode {
+    /// Every mode, by code.
+    pub const ALL: [BlendMode; 6] = [
+        BlendMode::Add,
+        BlendMode::Subtract,
+        BlendMode::Multiply,
+        BlendMode::Min,
+        BlendMode::Max,
+        BlendMode::Overwrite,
+    ];
+
+    /// The mode of a `LocalVolume::blend` code.
+    pub fn from_code(code: u32) -> Option<Self> {
+        Self::ALL.get(code as usize).copied()
+    }
+}
+
 /// A local fog volume (WGSL `volfog::types::LocalVolume`).
 #[derive(Debug, Clone, Copy, PartialEq, Default, ShaderType)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
@@ -161,13 +217,19 @@ pub struct LocalVolume {
     /// Radiance emitted per metre of path inside (linear rgb, W / (sr m^3)), faded with
     /// the edge like the density. See [`limits::EMISSION`].
     pub emission: Vec3,
-    /// Extinction added inside (1/m); negative clears fog. See
-    /// [`limits::LOCAL_VOLUME_DENSITY`].
+    /// The volume's extinction inside (1/m), combined with the medium's by `blend`:
+    /// added (negative clears fog, see [`limits::LOCAL_VOLUME_DENSITY`]), or, for the
+    /// other modes, >= 0 (see [`limits::LOCAL_VOLUME_BLEND_DENSITY`]): subtracted, the
+    /// cap, the floor, the value, or under [`BlendMode::Multiply`] the factor.
     pub density: f32,
     /// Edge falloff width, fraction of the unit extent, (0, 1].
     pub edge: f32,
     /// A [`VolumeShape`] code: 0 box, 1 ellipsoid, 3 cylinder, 4 cone.
     pub shape: u32,
+    /// A [`BlendMode`] code: 0 add (the default), 1 subtract, 2 multiply, 3 min, 4 max,
+    /// 5 overwrite.
+    #[cfg_attr(feature = "serde", serde(default))]
+    pub blend: u32,
     /// Added to the density texture's coordinate in this volume, whose unit shape spans
     /// [0, 1] of the texture; move it to scroll the pattern. Finite.
     pub texture_offset: Vec3,
@@ -198,6 +260,7 @@ impl LocalVolume {
             density,
             edge,
             shape: shape as u32,
+            blend: BlendMode::Add as u32,
             texture_offset: Vec3::ZERO,
             textured: 0,
         };
@@ -220,10 +283,45 @@ impl LocalVolume {
         Ok(volume)
     }
 
-    /// The volume glowing with `emission` (radiance per metre, linear rgb).
+    /// The volume glowing with `emission` (radiance per metre, linear rgb; under
+    /// [`BlendMode::Min`], `Max` and `Overwrite` the emission's cap, floor or value,
+    /// under `Subtract` what it removes).
     pub fn with_emission(self, emission: Vec3) -> Result<Self, InvalidValue> {
-        super::check_channels("LocalVolume.emission", emission, &limits::EMISSION)?;
-        Ok(Self { emission, ..self })
+        let volume = Self { emission, ..self };
+        volume.validate()?;
+        Ok(volume)
+    }
+
+    /// The volume combined with the medium by `blend` (see [`BlendMode`]); its density
+    /// and emission must suit the mode.
+    ///
+    /// ```
+    /// use glam::{Mat4, Vec3};
+    /// use volfog::uniforms::{BlendMode, LocalVolume, VolumeShape};
+    ///
+    /// // A house that clears the fog inside it.
+    /// let house = Mat4::from_scale_rotation_translation(
+    ///     Vec3::new(4.0, 3.0, 5.0),
+    ///     glam::Quat::IDENTITY,
+    ///     Vec3::new(0.0, 3.0, -20.0),
+    /// );
+    /// let clear = LocalVolume::new(house, VolumeShape::Box, 10.0, 0.05)?
+    ///     .with_blend(BlendMode::Subtract)?;
+    /// assert_eq!(clear.blend, 1);
+    /// // Only an additive volume takes a negative density.
+    /// let err = LocalVolume::new(house, VolumeShape::Box, -1.0, 0.05)?
+    ///     .with_blend(BlendMode::Min)
+    ///     .unwrap_err();
+    /// assert_eq!(err.field, "LocalVolume.density");
+    /// # Ok::<(), volfog::limits::InvalidValue>(())
+    /// ```
+    pub fn with_blend(self, blend: BlendMode) -> Result<Self, InvalidValue> {
+        let volume = Self {
+            blend: blend as u32,
+            ..self
+        };
+        volume.validate()?;
+        Ok(volume)
     }
 
     /// Checks every member, as [`LocalVolume::new`] does (for volumes built member by
@@ -235,9 +333,26 @@ impl LocalVolume {
             0.0,
             "a finite, invertible transform",
         )?;
-        limits::LOCAL_VOLUME_DENSITY.check("LocalVolume.density", self.density)?;
+        let blend = BlendMode::from_code(self.blend);
+        check(
+            blend.is_some(),
+            "LocalVolume.blend",
+            self.blend,
+            "0 (add), 1 (subtract), 2 (multiply), 3 (min), 4 (max) or 5 (overwrite)",
+        )?;
+        if blend == Some(BlendMode::Add) {
+            limits::LOCAL_VOLUME_DENSITY.check("LocalVolume.density", self.density)?;
+        } else {
+            limits::LOCAL_VOLUME_BLEND_DENSITY.check("LocalVolume.density", self.density)?;
+        }
         limits::LOCAL_VOLUME_EDGE.check("LocalVolume.edge", self.edge)?;
         super::check_channels("LocalVolume.emission", self.emission, &limits::EMISSION)?;
+        check(
+            blend != Some(BlendMode::Multiply) || self.emission == Vec3::ZERO,
+            "LocalVolume.emission",
+            self.emission,
+            "0 for BlendMode::Multiply (the factor scales the medium's own emission)",
+        )?;
         check_finite(
             "LocalVolume.texture_offset",
             self.texture_offset,

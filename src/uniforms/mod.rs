@@ -24,6 +24,7 @@
 
 mod bytes;
 mod clouds;
+mod custom;
 mod epipolar;
 mod fog_volume;
 mod frame;
@@ -40,6 +41,7 @@ mod water;
 
 pub use bytes::{to_storage_bytes, to_uniform_bytes};
 pub use clouds::CloudLayer;
+pub use custom::{FogCustomParams, FogSample};
 pub use epipolar::{EPIPOLE_LIMIT, EpipolarFrame, EpipolarPhase, EpipolarSampling, EpipolarView};
 pub use fog_volume::FogVolume;
 pub use frame::{FogFrame, FogView, HistoryState};
@@ -55,7 +57,7 @@ pub use local_shadow::{
     CUBE_FACE_AXES, LOCAL_SHADOW_NONE, LOCAL_SHADOW_POINT, LOCAL_SHADOW_SPOT, LightCamera,
     LightProjection, LocalShadowSource,
 };
-pub use medium::{FogMedium, LocalVolume, VolumeShape};
+pub use medium::{BlendMode, FogMedium, LocalVolume, VolumeShape};
 pub use shadow::{ShadowCascades, ShadowTaps};
 pub use sky::SkyAtmosphere;
 pub use water::Water;

@@ -153,6 +153,7 @@ fn the_js_host_runs_the_export_and_matches_the_rust_pipeline() {
         defines: vec![],
         hlsl_samplers: HlslSamplers::Classic,
         snippets: None,
+        custom_density: None,
     })
     .unwrap();
     let u = inputs

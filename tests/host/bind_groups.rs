@@ -235,6 +235,40 @@ fn runtime_layouts_match_the_shaders() {
             &[(0, inject::InjectPass::layout_entries(&options))],
         );
     }
+    // The custom-density variant (composed with a user's module, never prebuilt), alone
+    // and with the runtime's default defines.
+    let swirl = volfog_codegen::custom::CustomModule::new(
+        "examples/portal_swirl.wgsl",
+        include_str!("../../examples/portal_swirl.wgsl"),
+    );
+    let hook = volfog_codegen::manifest::CUSTOM_DENSITY;
+    for options in [
+        InjectOptions {
+            jitter: false,
+            noise_texture: false,
+            custom_density: true,
+            ..InjectOptions::default()
+        },
+        InjectOptions {
+            custom_density: true,
+            local_shadows: false,
+            ..volfog::pipeline::FogConfig::default().inject_options()
+        },
+    ] {
+        let out = volfog_codegen::translate::compose_variant_with(
+            "inject",
+            &options.defines(),
+            volfog_codegen::reflect::HlslSamplers::Classic,
+            &[(&hook, &swirl)],
+        )
+        .unwrap_or_else(|e| panic!("{e}"));
+        checked += check_entries(
+            &out.entries,
+            &out.name,
+            &[(0, inject::InjectPass::layout_entries(&options))],
+            &[0, 1],
+        );
+    }
     for v in volfog_codegen::manifest::variants()
         .into_iter()
         .filter(|v| v.pass.name == "apply")

@@ -15,6 +15,7 @@ fn pass(source: &'static str) -> PassSource {
         usage: "",
         non_filtering_samplers: &[],
         render: None,
+        hooks: &[],
     }
 }
 
@@ -187,4 +188,135 @@ fn exclusive_defines_exclude_each_other() {
     for combo in combos {
         compose_pass(&mut composer, &p, &Defines::flags(combo)).unwrap();
     }
+}
+
+/// The user's custom density module, composed into inject
+/// (`VOLFOG_INJECT_CUSTOM_DENSITY`): each way it can be wrong is a typed error that names
+/// the user's file (and, where there is one, the line and column) and the required
+/// signature.
+#[test]
+fn custom_density_errors_name_the_users_file_and_the_signature() {
+    use volfog_codegen::custom::{CustomModule, compose_with};
+    use volfog_codegen::manifest::CUSTOM_DENSITY;
+
+    let inject = manifest::pass("inject").unwrap();
+    let defines = Defines::parse(inject, &[CUSTOM_DENSITY.define.to_string()]).unwrap();
+    let compose = |file: &str, source: &str| {
+        compose_with(
+            inject,
+            &defines,
+            &[(&CUSTOM_DENSITY, &CustomModule::new(file, source))],
+        )
+    };
+    let header = "#import volfog::types::{FogSample, FogCustomParams}\n";
+
+    // Without the function.
+    let err = compose(
+        "empty.wgsl",
+        &format!("{header}fn helper() -> f32 {{ return 1.0; }}\n"),
+    )
+    .unwrap_err();
+    eprintln!("{err}");
+    assert!(
+        matches!(err, CodegenError::CustomFunctionMissing { .. }),
+        "{err:?}"
+    );
+    let text = err.to_string();
+    assert!(
+        text.contains("empty.wgsl") && text.contains(CUSTOM_DENSITY.signature),
+        "{text}"
+    );
+
+    // Another signature: the function's own line and column.
+    let err = compose(
+        "two_args.wgsl",
+        &format!(
+            "{header}\n   fn volfog_custom_density(world: vec3<f32>, time: f32) -> FogSample {{\n\
+             \x20   return FogSample(vec3<f32>(1.0), 0.1, vec3<f32>(0.0));\n}}\n"
+        ),
+    )
+    .unwrap_err();
+    eprintln!("{err}");
+    match &err {
+        CodegenError::CustomSignature {
+            file, line, column, ..
+        } => {
+            assert_eq!((file.as_str(), *line, *column), ("two_args.wgsl", 3, 4));
+        }
+        other => panic!("expected a signature error, got {other:?}"),
+    }
+    let text = err.to_string();
+    assert!(
+        text.starts_with("two_args.wgsl:3:4:") && text.contains(CUSTOM_DENSITY.signature),
+        "{text}"
+    );
+
+    // An error inside the function: naga's message at the user's file, line and column,
+    // the offending line, and the signature.
+    let err = compose(
+        "typo.wgsl",
+        &format!(
+            "{header}\nfn volfog_custom_density(world: vec3<f32>, time: f32, params: FogCustomParams) -> FogSample {{\n\
+             \x20   let e = 0.1 * undefined_height;\n\
+             \x20   return FogSample(vec3<f32>(1.0), e, vec3<f32>(0.0));\n}}\n"
+        ),
+    )
+    .unwrap_err();
+    eprintln!("{err}");
+    assert!(matches!(err, CodegenError::CustomModule { .. }), "{err:?}");
+    let text = err.to_string();
+    assert!(text.contains("typo.wgsl:4:"), "file:line:column in {text}");
+    assert!(
+        text.contains("undefined_height"),
+        "the offending line in {text}"
+    );
+    assert!(text.contains(CUSTOM_DENSITY.signature), "{text}");
+
+    // The wrong return type, found where the function returns.
+    let err = compose(
+        "scalar.wgsl",
+        &format!(
+            "{header}fn volfog_custom_density(world: vec3<f32>, time: f32, params: FogCustomParams) -> f32 {{\n\
+             \x20   return 0.1;\n}}\n"
+        ),
+    )
+    .unwrap_err();
+    eprintln!("{err}");
+    assert!(
+        matches!(
+            err,
+            CodegenError::CustomSignature {
+                line: 2,
+                column: 1,
+                ..
+            }
+        ),
+        "{err:?}"
+    );
+
+    // A module that declares another import path.
+    let err = compose(
+        "moved.wgsl",
+        "#define_import_path my::density\nfn volfog_custom_density() {}\n",
+    )
+    .unwrap_err();
+    assert!(
+        matches!(&err, CodegenError::ImportPath { file, expected, .. }
+            if file == "moved.wgsl" && expected == CUSTOM_DENSITY.import_path),
+        "{err:?}"
+    );
+
+    // The define without a module.
+    let mut composer = composer().unwrap();
+    let err = compose_pass(&mut composer, inject, &defines).unwrap_err();
+    assert!(
+        matches!(err, CodegenError::CustomModuleMissing { .. }),
+        "{err:?}"
+    );
+    // The shared composer keeps no user's module: the define fails again afterwards.
+    let err = volfog_codegen::compose::compose_validated(inject, &defines).unwrap_err();
+    assert!(
+        matches!(err, CodegenError::CustomModuleMissing { .. }),
+        "{err:?}"
+    );
 }

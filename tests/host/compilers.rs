@@ -13,7 +13,7 @@ use serde_json::Value;
 use crate::common::{entry_points, exported, manifest, scratch, vertex_of};
 use crate::tools::{dawn_check, dawn_results, gl_link, output, slang_check, text};
 
-fn slang(file: &Path, stage: &str, entry: &str) -> Result<(), String> {
+pub(crate) fn slang(file: &Path, stage: &str, entry: &str) -> Result<(), String> {
     let o = output(
         slang_check()
             .args([
@@ -61,7 +61,7 @@ fn every_hlsl_export_compiles_in_slang() {
 
 /// What GL reports of a linked program, keyed by (kind, name): binding and, for blocks,
 /// data size.
-fn gl_resources(report: &Value) -> BTreeMap<(String, String), (u64, Option<u64>)> {
+pub(crate) fn gl_resources(report: &Value) -> BTreeMap<(String, String), (u64, Option<u64>)> {
     let mut out = BTreeMap::new();
     for (key, kind) in [
         ("uniform_blocks", "uniform_block"),
@@ -90,7 +90,7 @@ fn gl_resources(report: &Value) -> BTreeMap<(String, String), (u64, Option<u64>)
 }
 
 /// What the manifest says GL will report for an entry point's bindings.
-fn manifest_resources(entry: &Value, into: &mut BTreeMap<(String, String), (u64, Option<u64>)>) {
+pub(crate) fn manifest_resources(entry: &Value, into: &mut BTreeMap<(String, String), (u64, Option<u64>)>) {
     for b in entry["bindings"].as_array().unwrap() {
         let glsl = &b["glsl"];
         if glsl.is_null() {

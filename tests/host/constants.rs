@@ -80,10 +80,64 @@ fn module_constants_match_their_rust_twins() {
         ),
         (
             "volfog::density",
-            &[(
-                "DENSITY_MAX_EXPONENT",
-                cpu::density::DENSITY_MAX_EXPONENT as f64,
-            )],
+            &[
+                (
+                    "DENSITY_MAX_EXPONENT",
+                    cpu::density::DENSITY_MAX_EXPONENT as f64,
+                ),
+                ("LOCAL_VOLUME_ADD", cpu::density::LOCAL_VOLUME_ADD as f64),
+                (
+                    "LOCAL_VOLUME_SUBTRACT",
+                    cpu::density::LOCAL_VOLUME_SUBTRACT as f64,
+                ),
+                (
+                    "LOCAL_VOLUME_MULTIPLY",
+                    cpu::density::LOCAL_VOLUME_MULTIPLY as f64,
+                ),
+                ("LOCAL_VOLUME_MIN", cpu::density::LOCAL_VOLUME_MIN as f64),
+                ("LOCAL_VOLUME_MAX", cpu::density::LOCAL_VOLUME_MAX as f64),
+                (
+                    "LOCAL_VOLUME_OVERWRITE",
+                    cpu::density::LOCAL_VOLUME_OVERWRITE as f64,
+                ),
+                (
+                    "LOCAL_VOLUME_ADD",
+                    volfog::uniforms::BlendMode::Add as u32 as f64,
+                ),
+                (
+                    "LOCAL_VOLUME_SUBTRACT",
+                    volfog::uniforms::BlendMode::Subtract as u32 as f64,
+                ),
+                (
+                    "LOCAL_VOLUME_MULTIPLY",
+                    volfog::uniforms::BlendMode::Multiply as u32 as f64,
+                ),
+                (
+                    "LOCAL_VOLUME_MIN",
+                    volfog::uniforms::BlendMode::Min as u32 as f64,
+                ),
+                (
+                    "LOCAL_VOLUME_MAX",
+                    volfog::uniforms::BlendMode::Max as u32 as f64,
+                ),
+                (
+                    "LOCAL_VOLUME_OVERWRITE",
+                    volfog::uniforms::BlendMode::Overwrite as u32 as f64,
+                ),
+                (
+                    "FOG_SAMPLE_MAX_EXTINCTION",
+                    cpu::density::FOG_SAMPLE_MAX_EXTINCTION as f64,
+                ),
+                (
+                    "FOG_SAMPLE_MAX_EXTINCTION",
+                    limits::LOCAL_VOLUME_DENSITY.max as f64,
+                ),
+                (
+                    "FOG_SAMPLE_MAX_EMISSION",
+                    cpu::density::FOG_SAMPLE_MAX_EMISSION as f64,
+                ),
+                ("FOG_SAMPLE_MAX_EMISSION", limits::EMISSION.max as f64),
+            ],
         ),
         (
             "volfog::noise",

@@ -14,7 +14,7 @@ use crate::common::{exported, scratch, variants};
 
 const TOOLS_HINT: &str = "apt-get update && apt-get install -y spirv-tools glslang-tools";
 
-fn tool(name: &str) -> Command {
+pub(crate) fn tool(name: &str) -> Command {
     let probe = Command::new(name).arg("--version").output();
     if probe.is_err() {
         panic!("{name} is not installed; install it with: {TOOLS_HINT}");
@@ -175,6 +175,7 @@ fn custom_defines_compose_at_run_time() {
         defines: vec!["VOLFOG_SCAN_WRONSKI_STEP".to_string()],
         hlsl_samplers: HlslSamplers::Classic,
         snippets: None,
+        custom_density: None,
     })
     .unwrap();
     let wgsl =
@@ -204,6 +205,7 @@ fn re_export_replaces_the_previous_export_whole() {
         defines: vec![],
         hlsl_samplers: HlslSamplers::Classic,
         snippets: None,
+        custom_density: None,
     };
     export(&request(Target::ALL.to_vec(), vec![])).unwrap();
     std::fs::write(out.join("hlsl/stale.hlsl"), "old").unwrap();

@@ -9,6 +9,7 @@ mod bind_groups;
 mod codegen_errors;
 mod compilers;
 mod constants;
+mod custom_density;
 mod exports;
 mod foreign_numbers;
 mod guides;
@@ -69,6 +70,7 @@ mod common {
                 defines: vec![],
                 hlsl_samplers: HlslSamplers::Classic,
                 snippets: Some(vec![]),
+                custom_density: None,
             })
             .expect("the export succeeds");
             out

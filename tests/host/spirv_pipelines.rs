@@ -14,7 +14,7 @@ use vkcheck::{
 
 use crate::common::{entry_points, exported, manifest, vertex_of};
 
-fn read_spirv(dir: &Path, file: &str) -> Vec<u32> {
+pub(crate) fn read_spirv(dir: &Path, file: &str) -> Vec<u32> {
     let bytes = std::fs::read(dir.join(file)).unwrap();
     bytes
         .chunks_exact(4)
@@ -43,7 +43,7 @@ fn kind(resource: &Value) -> DescriptorKind {
 }
 
 /// Adds an entry point's bindings to the descriptor sets (merging stages).
-fn add_bindings(sets: &mut Vec<Vec<DescriptorBinding>>, entry: &Value) {
+pub(crate) fn add_bindings(sets: &mut Vec<Vec<DescriptorBinding>>, entry: &Value) {
     let stage = stages(entry["stage"].as_str().unwrap());
     for b in entry["bindings"].as_array().unwrap() {
         let set = b["spirv"]["set"].as_u64().unwrap() as usize;

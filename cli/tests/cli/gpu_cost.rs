@@ -51,6 +51,7 @@ fn every_exported_pipeline_compiles_on_radv_for_three_chips() {
         defines: vec![],
         hlsl_samplers: HlslSamplers::Classic,
         snippets: Some(vec![]),
+        custom_density: None,
     })
     .unwrap();
     let jobs = exported_jobs(&out).unwrap();

@@ -19,6 +19,7 @@
 //!     defines: vec![],
 //!     hlsl_samplers: Default::default(),
 //!     snippets: Some(vec![]),
+//!     custom_density: None,
 //! })
 //! .unwrap();
 //! println!("{} files", summary.files);
@@ -33,9 +34,10 @@ use crate::snippets::{self, Snippet, SnippetLanguage};
 
 pub use manifest_json::{manifest_json, manifest_value};
 
+use crate::custom::CustomModule;
 use crate::manifest::{self, PASSES};
 use crate::reflect::HlslSamplers;
-use crate::translate::{VariantOutput, compose_variant, generate_variant};
+use crate::translate::{VariantOutput, compose_variant_with, generate_variant};
 use crate::{CodegenError, Target};
 
 /// What to export.
@@ -55,6 +57,10 @@ pub struct ExportRequest {
     /// Include snippets to write: `None` for none, an empty list for every one, or
     /// module names (see [`snippets::SNIPPET_MODULES`]; `all` is the union).
     pub snippets: Option<Vec<String>>,
+    /// The user's custom density module ([`manifest::CUSTOM_DENSITY`]): the inject
+    /// variants composed under `VOLFOG_INJECT_CUSTOM_DENSITY` (which `defines` must
+    /// name) import its `volfog_custom_density`.
+    pub custom_density: Option<CustomModule>,
 }
 
 /// Export failures. Each leaves the destination untouched.
@@ -142,6 +148,17 @@ pub fn select(request: &ExportRequest) -> Result<Vec<VariantOutput>, ExportError
         }
     }
     passes.dedup();
+    if request.custom_density.is_some()
+        && !request
+            .defines
+            .iter()
+            .any(|d| d.trim() == manifest::CUSTOM_DENSITY.define)
+    {
+        return Err(ExportError::Define(CodegenError::Define(format!(
+            "a custom density module is composed under {}: add the define",
+            manifest::CUSTOM_DENSITY.define
+        ))));
+    }
     if request.defines.is_empty() {
         if request.variants.is_empty() {
             chosen = manifest::variants();
@@ -171,10 +188,16 @@ pub fn select(request: &ExportRequest) -> Result<Vec<VariantOutput>, ExportError
             ))));
         }
     }
+    let modules: Vec<_> = request
+        .custom_density
+        .iter()
+        .map(|m| (&manifest::CUSTOM_DENSITY, m))
+        .collect();
     let mut outputs: Vec<VariantOutput> = passes
         .iter()
         .map(|p| {
-            compose_variant(p, &request.defines, request.hlsl_samplers).map_err(ExportError::from)
+            compose_variant_with(p, &request.defines, request.hlsl_samplers, &modules)
+                .map_err(ExportError::from)
         })
         .collect::<Result<_, _>>()?;
     let mut vertex = Vec::new();

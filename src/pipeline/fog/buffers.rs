@@ -3,8 +3,8 @@
 
 use super::{FogConfig, storage_buffer, uniform_buffer};
 use crate::uniforms::{
-    self, FogFrame, FogLight, FogLighting, FogMedium, FogView, Froxels, HeightFog, LocalVolume,
-    ShadowCascades, ShadowTaps, TransientLighting,
+    self, FogCustomParams, FogFrame, FogLight, FogLighting, FogMedium, FogView, Froxels, HeightFog,
+    LocalVolume, ShadowCascades, ShadowTaps, TransientLighting,
 };
 
 /// The uniform and storage buffers of the fog.
@@ -25,6 +25,8 @@ pub(super) struct Buffers {
     pub(super) transient: wgpu::Buffer,
     /// The transient lights (`FogConfig::max_transient_lights`, at least one element).
     pub(super) transient_lights: wgpu::Buffer,
+    /// `FogCustomParams` (the custom density).
+    pub(super) custom_params: wgpu::Buffer,
 }
 
 impl Buffers {
@@ -81,10 +83,14 @@ impl Buffers {
                 "volfog transient lights",
                 transient_lights.len(),
             ),
+            custom_params: uniform(
+                "volfog custom density parameters",
+                uniforms::to_uniform_bytes(&FogCustomParams::default()),
+            ),
         }
     }
 
-    pub(super) fn all(&self) -> [&wgpu::Buffer; 12] {
+    pub(super) fn all(&self) -> [&wgpu::Buffer; 13] {
         [
             &self.froxels,
             &self.frame,
@@ -98,6 +104,7 @@ impl Buffers {
             &self.shadow_taps,
             &self.transient,
             &self.transient_lights,
+            &self.custom_params,
         ]
     }
 }

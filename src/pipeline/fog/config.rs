@@ -4,6 +4,7 @@ use glam::UVec3;
 
 use crate::limits::{self, InvalidValue};
 use crate::options::{EsmOptions, Filtering, InjectOptions, ScanStep, ShadowFilter};
+use crate::shaders::CustomModule;
 use crate::uniforms::ShadowCascades;
 
 /// Configuration of a [`VolumetricFog`](super::VolumetricFog). Every range is in
@@ -105,6 +106,16 @@ pub struct FogConfig {
     /// texture and local volumes are not on these paths (they shape the fog where it
     /// is, not the light on its way). Off: light reaches every froxel as in clear air.
     pub light_transmittance: bool,
+    /// Your own density: a WGSL module (naga_oil `#import`s, or WESL `import ...;`
+    /// statements) that defines `fn volfog_custom_density(world: vec3<f32>, time: f32,
+    /// params: FogCustomParams) -> FogSample` ([`crate::shaders::CUSTOM_DENSITY`]). The
+    /// inject pass is composed with it (`VOLFOG_INJECT_CUSTOM_DENSITY`) and adds its
+    /// sample at each froxel's position to the medium before the local volumes blend;
+    /// `params` is [`FrameInputs::custom_params`](super::FrameInputs::custom_params)
+    /// (inject's binding 31). [`VolumetricFog::new`](super::VolumetricFog::new) returns
+    /// the module's composition or validation errors with its file, line and column and
+    /// the required signature. `None` (the default): no custom density.
+    pub custom_density: Option<CustomModule>,
 }
 
 /// The budget of shadowed point and spot lights and their ESM atlas (see
@@ -183,6 +194,7 @@ impl Default for FogConfig {
             timestamps: false,
             local_shadows: Some(LocalShadowConfig::default()),
             light_transmittance: true,
+            custom_density: None,
         }
     }
 }
@@ -246,6 +258,7 @@ impl FogConfig {
             local_shadows: self.local_shadows.is_some(),
             noise_octaves: self.noise_octaves,
             temporal: self.fused_temporal(),
+            custom_density: self.custom_density.is_some(),
         }
     }
 

@@ -56,6 +56,13 @@ impl VolumetricFog {
         if let (Some(local), Some(plan)) = (self.local_shadows.as_mut(), &plan) {
             local.write(queue, &self.esm, plan);
         }
+        if self.config.custom_density.is_some() {
+            queue.write_buffer(
+                &b.custom_params,
+                0,
+                &uniforms::to_uniform_bytes(&inputs.custom_params),
+            );
+        }
         if !inputs.local_volumes.is_empty() {
             queue.write_buffer(
                 &b.local_volumes,

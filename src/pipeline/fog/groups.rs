@@ -59,7 +59,11 @@ impl VolumetricFog {
     /// groups: called when shadow maps or cookies are set.
     pub(super) fn enable_shadowed_inject(&mut self, device: &wgpu::Device) -> Result<(), FogError> {
         if self.inject_shadowed.is_none() {
-            let pass = InjectPass::new(device, self.config.inject_options())?;
+            let pass = InjectPass::with_custom_density(
+                device,
+                self.config.inject_options(),
+                self.config.custom_density.as_ref(),
+            )?;
             let placeholder = self.inject_groups.clone();
             self.inject_shadowed = Some((pass, placeholder));
         }
@@ -237,6 +241,7 @@ pub(super) fn inject_bind_group(
                     .map(|(l, v)| l.resources(v)),
                 temporal,
                 shadow_taps: Some(&buffers.shadow_taps),
+                custom_params: Some(&buffers.custom_params),
             },
         )
         .expect("the fog binds every texture its inject variant reads")

@@ -11,8 +11,8 @@ use crate::cpu::shadow::{shadow_tap_rays, shadow_taps};
 use crate::limits::{InvalidValue, check};
 use crate::options::ShadowFilter;
 use crate::uniforms::{
-    CloudLayer, DirectionalLight, FogFrame, FogLight, FogLighting, FogMedium, FogView, Froxels,
-    HeightFog, LocalVolume, ShadowCascades, ShadowTaps, TransientLighting,
+    CloudLayer, DirectionalLight, FogCustomParams, FogFrame, FogLight, FogLighting, FogMedium,
+    FogView, Froxels, HeightFog, LocalVolume, ShadowCascades, ShadowTaps, TransientLighting,
 };
 
 /// The uniforms one frame's inputs become: what
@@ -88,6 +88,9 @@ pub struct FrameInputs<'a> {
     /// The cloud layer whose shadow the sun's light passes in the fog
     /// (`FogConfig::cloud_shadow`; ignored otherwise). The default has no extinction.
     pub clouds: CloudLayer,
+    /// The parameters of the custom density (`FogConfig::custom_density`; ignored
+    /// otherwise): what its `params` argument holds this frame. Finite; 0 by default.
+    pub custom_params: FogCustomParams,
 }
 
 impl FrameInputs<'_> {
@@ -109,6 +112,7 @@ impl FrameInputs<'_> {
             reset_history: false,
             tail: HeightFog::none(),
             clouds: CloudLayer::new(2000.0, 500.0, 0.0, 1.0e4).expect("a valid empty layer"),
+            custom_params: FogCustomParams::default(),
         }
     }
 
@@ -129,6 +133,7 @@ impl FrameInputs<'_> {
         )?;
         self.medium.validate()?;
         self.sun.validate()?;
+        self.custom_params.validate()?;
         if config.cloud_shadow {
             self.clouds.validated()?;
         }

@@ -153,12 +153,13 @@ impl VolumetricFog {
         check_device(device, config)?;
         let size = config.volume_size;
         let esm = EsmPasses::new(device, &config.esm_options())?;
-        let inject = InjectPass::new(
+        let inject = InjectPass::with_custom_density(
             device,
             InjectOptions {
                 local_shadows: false,
                 ..config.inject_options()
             },
+            config.custom_density.as_ref(),
         )?;
         let scan = ScanPass::new(device, config.scan_step, config.depth_cull)?;
         let buffers = Buffers::new(device, config);

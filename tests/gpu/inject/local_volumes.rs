@@ -17,7 +17,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     if i >= arrayLength(&output) { return; }
     let m = mat4x4<f32>(input[5u * i], input[5u * i + 1u], input[5u * i + 2u], input[5u * i + 3u]);
     let sphere = input[5u * i + 4u];
-    let volume = LocalVolume(m, vec3<f32>(0.0), 1.0, 0.5, 0u, vec3<f32>(0.0), 0u);
+    let volume = LocalVolume(m, vec3<f32>(0.0), 1.0, 0.5, 0u, 0u, vec3<f32>(0.0), 0u);
     output[i] = select(0.0, 1.0, local_volume_touches_sphere(volume, sphere.xyz, sphere.w));
 }
 "#;

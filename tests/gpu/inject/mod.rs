@@ -2,9 +2,12 @@
 //! against closed forms (homogeneous fog lit by the sun, with and without an occluder),
 //! against numerical integration (a height-fog column), and with lights placed exactly
 //! at froxel centres; the density-texture variant, the culling of local volumes,
-//! directional fog lights and squared spot cones, and typed errors for bad frame inputs.
+//! directional fog lights and squared spot cones, the blend modes of local volumes, your
+//! own density in WGSL, and typed errors for bad frame inputs.
 
+mod blend_modes;
 mod closed_form;
+mod custom_density;
 mod inputs;
 mod light_kinds;
 mod local_volumes;

@@ -22,7 +22,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     let m = mat4x4<f32>(input[7u * i], input[7u * i + 1u], input[7u * i + 2u], input[7u * i + 3u]);
     let e = input[7u * i + 4u];
     let params = input[7u * i + 5u];
-    let volume = LocalVolume(m, e.xyz, params.x, params.y, u32(params.z), vec3<f32>(0.0), 0u);
+    let volume = LocalVolume(m, e.xyz, params.x, params.y, u32(params.z), 0u, vec3<f32>(0.0), 0u);
     output[i] = local_volume_sample(volume, input[7u * i + 6u].xyz);
 }
 "#;
