@@ -444,12 +444,14 @@ fn a_roof_shadows_the_sun_through_the_cascades() {
         "the shadow and its edge are seen"
     );
     // The grid floor (a perfect shadow term at the same grid) follows the integral
-    // everywhere, the edge included, where the ESM blurs it. Measured: max 0 away from
-    // the edge, 3.05e-3 near it (mean 1.31e-3), against 0.143 for the image.
+    // everywhere, the edge included. Measured on lavapipe: max 0 away from the edge,
+    // 7.6e-4 near it (mean 1.6e-4), where the image (the compare filter, one frame
+    // without jitter) errs by up to 8.3e-3 and the ESM's by 0.143.
     assert!(floor_away.max <= 2e-3, "{floor_away:?}");
-    assert!(floor_near.max <= 5e-3, "{floor_near:?}");
+    assert!(floor_near.max <= 2e-3, "{floor_near:?}");
     assert!(floor.sampled > 0, "froxels across the edge are sub-sampled");
-    // Measured on lavapipe: max 1.4e-5 away from the edge (the roof lies 6 m or more
-    // above every receiver along the sun, where the ESM no longer leaks).
+    // Measured on lavapipe: max 0 away from the edge with the compare filter, 1.4e-5
+    // with the ESM (the roof lies 6 m or more above every receiver along the sun,
+    // where the ESM no longer leaks).
     assert!(away.max <= 2e-3, "{away:?}");
 }
