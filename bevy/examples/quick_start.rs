@@ -3,7 +3,8 @@
 //! shadow maps and an ellipsoid `FroxelFogVolume`; and a scene written for Bevy's own
 //! `VolumetricFog` rendered by volfog under `BevyFogCompat` (`-- --bevy-fog`); and a
 //! muzzle flash that lights the fog for one frame, `TransientFogLight` (`-- --flash`,
-//! the space bar fires).
+//! the space bar fires); and a density of your own, `FroxelFogDensity`, with a
+//! `FroxelFogVolume` that clears the fog in a house (`-- --density`).
 //!
 //! Compiled with the workspace's examples (`cargo check --examples` in `bevy/`).
 
@@ -12,6 +13,8 @@ fn main() {
         bevy_fog_compat();
     } else if std::env::args().any(|a| a == "--flash") {
         muzzle_flash();
+    } else if std::env::args().any(|a| a == "--density") {
+        own_density();
     } else {
         froxel_fog();
     }
@@ -25,7 +28,7 @@ fn froxel_fog() {
     App::new().add_plugins((DefaultPlugins, VolumetricFogPlugin)).add_systems(Startup, |mut commands: Commands| {
         commands.spawn((Camera3d::default(), FroxelFog { far: 150.0, ..default() }));
         commands.spawn((DirectionalLight { shadow_maps_enabled: true, ..default() }, Transform::default()));
-        commands.spawn((FroxelFogVolume { shape: FogVolumeShape::Ellipsoid, density: 0.2, edge: 0.5 },
+        commands.spawn((FroxelFogVolume { shape: FogVolumeShape::Ellipsoid, density: 0.2, edge: 0.5, ..default() },
                         Transform::from_xyz(0.0, 2.0, -10.0).with_scale(Vec3::splat(6.0))));
     }).run();
 }
@@ -65,4 +68,24 @@ fn muzzle_flash() {
         .add_systems(Startup, |mut commands: Commands| {
             commands.spawn((Camera3d::default(), FroxelFog::default()));
         }).run();
+}
+
+#[rustfmt::skip]
+fn own_density() {
+    use bevy::prelude::*;
+    use bevy::shader::Shader;
+    use volfog_bevy::{BlendMode, FogVolumeShape, FroxelFog, FroxelFogDensity, FroxelFogVolume, VolumetricFogPlugin};
+
+    App::new().add_plugins((DefaultPlugins, VolumetricFogPlugin)).add_systems(Startup, |mut commands: Commands, mut shaders: ResMut<Assets<Shader>>| {
+        // a module defining volfog_custom_density, WGSL or WESL (or asset_server.load("fog/swirl.wesl"))
+        let shader = shaders.add(Shader::from_wgsl(include_str!("../../examples/portal_swirl.wgsl"), "portal_swirl.wgsl"));
+        let mut swirl = FroxelFogDensity::new(shader);
+        swirl.params[0] = Vec4::new(0.0, 2.0, -25.0, 4.0);   // the portal's centre and radius (m)
+        swirl.params[1] = Vec4::new(0.5, 1.5, 3.0, 0.0);     // peak extinction (1/m), swirl speed (rad/s), arms
+        swirl.params[2] = Vec4::new(0.6, 0.2, 1.4, 0.0);     // its glow at the peak
+        commands.spawn((Camera3d::default(), FroxelFog::default(), swirl));
+        // a house that clears the fog inside it, after the volumes of order 0
+        commands.spawn((FroxelFogVolume { shape: FogVolumeShape::Box, density: 10.0, edge: 0.05, blend: BlendMode::Subtract, order: 1 },
+                        Transform::from_xyz(8.0, 2.5, -20.0).with_scale(Vec3::new(8.0, 5.0, 6.0))));
+    }).run();
 }

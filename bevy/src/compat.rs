@@ -6,7 +6,7 @@
 //!
 //! | Bevy | volfog |
 //! | --- | --- |
-//! | `FogVolume` (unit cube) | `FroxelFogVolume` box, extinction `density_factor * (absorption + scattering)` |
+//! | `FogVolume` (unit cube) | `FroxelFogVolume` box, extinction `density_factor * (absorption + scattering)`, `BlendMode::Add` |
 //! | `scattering / (absorption + scattering) * fog_color * light_tint` | the medium's albedo (clamped to 1) |
 //! | `scattering_asymmetry` | the medium's Henyey-Greenstein `phase_g` |
 //! | `light_intensity` | `sun_scattering` and `light_scattering` |
@@ -31,6 +31,13 @@
 //! repeat addressing). `VolumetricFog.step_count` and `jitter` are the ray
 //! marcher's quality settings; the froxel grid's slices and temporal jitter take their
 //! place.
+//!
+//! Bevy's `FogVolume` has no blend mode: Bevy ray-marches each volume on its own and
+//! composites it over the others, so overlapping volumes' optical depths add, which is
+//! volfog's `BlendMode::Add` (the mapped volumes' blend). The other modes (subtract,
+//! multiply, min, max, overwrite) have no Bevy equivalent; give the entity its own
+//! `FroxelFogVolume` with a `blend` for them (the entity's own volume wins over the
+//! mapping).
 
 use std::collections::HashSet;
 
@@ -42,7 +49,7 @@ use bevy::render::sync_world::RenderEntity;
 use bevy::render::{Extract, ExtractSchedule, Render, RenderApp, RenderSystems};
 
 use crate::settings::{
-    FogLightSelection, FogMediumSettings, FogVolumeShape, FroxelFog, FroxelFogVolume,
+    BlendMode, FogLightSelection, FogMediumSettings, FogVolumeShape, FroxelFog, FroxelFogVolume,
     FroxelFogVolumeTexture,
 };
 
@@ -156,6 +163,10 @@ pub fn froxel_fog_volume(volume: &FogVolume) -> FroxelFogVolume {
         // Bevy's volumes have hard faces; volfog's soft edge as thin as it goes
         // without aliasing on the froxel grid of a volume a few metres wide.
         edge: 0.02,
+        // Bevy marches each volume on its own and composites them over each other:
+        // their optical depths add.
+        blend: BlendMode::Add,
+        order: 0,
     }
 }
 

@@ -24,14 +24,17 @@ use bevy::light::{
 use bevy::prelude::*;
 use bevy::render::Extract;
 use bevy::render::sync_world::RenderEntity;
+use bevy::shader::Shader;
 use volfog::cpu::ambient::AmbientSh;
 use volfog::glam as vg;
 use volfog::limits::{self, InvalidValue, check};
 use volfog::pipeline::FogConfig;
 use volfog::uniforms::{
-    FOG_LIGHT_SPOT_SQUARED, FogLight, FogMedium, HeightFog, LocalVolume, ShadowCascades,
-    VolumeShape,
+    FOG_LIGHT_SPOT_SQUARED, FogCustomParams, FogLight, FogMedium, HeightFog, LocalVolume,
+    ShadowCascades, VolumeShape,
 };
+
+use crate::density::{FroxelFogDensity, custom_density};
 
 use crate::light_shadows::{ExtractedLightShadow, local_shadow_config};
 use crate::settings::{
@@ -80,6 +83,9 @@ pub struct ExtractedFroxelFog {
     pub cascades: ShadowCascades,
     /// The far tail (world space), or none.
     pub tail: HeightFog,
+    /// The parameters of the camera's [`FroxelFogDensity`] (whose module is
+    /// `config.custom_density`).
+    pub custom_params: FogCustomParams,
 }
 
 impl ExtractedFroxelFog {
@@ -94,6 +100,7 @@ impl ExtractedFroxelFog {
             local_volumes: &self.volumes,
             cascades: self.cascades,
             tail: self.tail,
+            custom_params: self.custom_params,
             ..volfog::pipeline::FrameInputs::new(
                 self.view_from_world,
                 self.clip_from_view,
@@ -145,6 +152,7 @@ type FogCameraItems = (
     &'static FroxelFog,
     &'static GlobalTransform,
     Option<&'static Exposure>,
+    Option<&'static FroxelFogDensity>,
 );
 
 /// Cameras without fog (their render entity loses any fog of an earlier frame).
@@ -192,13 +200,14 @@ pub fn extract_froxel_fog(
     shadow_map: Extract<Res<DirectionalLightShadowMap>>,
     point_shadow_map: Extract<Res<PointLightShadowMap>>,
     time: Extract<Res<Time>>,
+    shaders: Extract<Res<Assets<Shader>>>,
     mut warned: Local<HashSet<Entity>>,
     mut warned_textures: Local<HashSet<Entity>>,
 ) {
     for render in &others {
         commands.entity(render).remove::<ExtractedFroxelFog>();
     }
-    for (entity, render, camera, fog, transform, exposure) in &cameras {
+    for (entity, render, camera, fog, transform, exposure, density) in &cameras {
         let scene = Scene {
             camera,
             entity,
@@ -211,7 +220,8 @@ pub fn extract_froxel_fog(
         };
         let lights = collect_lights(&points, &spots, scene.exposure, fog);
         let mut local: Vec<_> = volumes.iter().collect();
-        local.sort_by_key(|(e, ..)| *e);
+        // The volumes blend in their order, ties by entity.
+        local.sort_by_key(|(e, v, ..)| (v.order, *e));
         // One density texture per fog: the first textured volume's image.
         let texture = local.iter().find_map(|(.., t)| t.map(|t| t.image.id()));
         let local: Vec<ExtractedVolume> = local
@@ -234,7 +244,15 @@ pub fn extract_froxel_fog(
                 (v.clone(), t.to_matrix(), offset)
             })
             .collect();
-        match extracted(fog, &scene, suns.iter(), lights, &local, texture) {
+        let result = custom_density(density, &shaders).and_then(|custom| {
+            let mut extracted = extracted(fog, &scene, suns.iter(), lights, &local, texture)?;
+            if let Some((module, params)) = custom {
+                extracted.config.custom_density = Some(module);
+                extracted.custom_params = params;
+            }
+            Ok(extracted)
+        });
+        match result {
             Ok(extracted) => {
                 warned.remove(&entity);
                 commands.entity(render).insert(extracted);
@@ -496,7 +514,8 @@ fn extracted<'a>(
                 FogVolumeShape::Box => VolumeShape::Box,
                 FogVolumeShape::Ellipsoid => VolumeShape::Ellipsoid,
             };
-            let volume = LocalVolume::new(world_from_local, shape, v.density, v.edge)?;
+            let volume = LocalVolume::new(world_from_local, shape, v.density, v.edge)
+                .and_then(|volume| volume.with_blend(v.blend))?;
             match texture_offset {
                 Some(offset) => volume.with_density_texture(vec3(*offset)),
                 None => Ok(volume),
@@ -556,6 +575,7 @@ fn extracted<'a>(
         density_texture,
         cascades,
         tail,
+        custom_params: FogCustomParams::default(),
     };
     extracted.inputs().validate(&extracted.config)?;
     Ok(extracted)

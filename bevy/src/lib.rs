@@ -21,7 +21,7 @@
 //! let mut world = World::new();
 //! let camera = world.spawn((Camera3d::default(), fog.clone())).id();
 //! let bank = world
-//!     .spawn(FroxelFogVolume { shape: FogVolumeShape::Ellipsoid, density: 0.2, edge: 0.5 })
+//!     .spawn(FroxelFogVolume { shape: FogVolumeShape::Ellipsoid, density: 0.2, edge: 0.5, ..default() })
 //!     .id();
 //! assert_eq!(world.get::<FroxelFog>(camera), Some(&fog));
 //! // A fog volume is placed by its transform, which it requires.
@@ -63,7 +63,7 @@
 //! fn setup(mut commands: Commands) {
 //!     commands.spawn((Camera3d::default(), FroxelFog::default()));
 //!     commands.spawn((
-//!         FroxelFogVolume { shape: FogVolumeShape::Ellipsoid, density: 0.2, edge: 0.5 },
+//!         FroxelFogVolume { shape: FogVolumeShape::Ellipsoid, density: 0.2, edge: 0.5, ..default() },
 //!         Transform::from_xyz(0.0, 2.0, -10.0).with_scale(Vec3::splat(6.0)),
 //!     ));
 //! }
@@ -72,6 +72,7 @@
 //! ```
 
 mod compat;
+mod density;
 mod extract;
 mod light_shadows;
 pub mod material;
@@ -92,12 +93,13 @@ pub use compat::{
     BevyFogCompat, FromBevyFog, FromDistanceFog, distance_fog_medium, distance_froxel_fog,
     froxel_fog, froxel_fog_volume,
 };
+pub use density::FroxelFogDensity;
 pub use extract::{ExtractedFroxelFog, MAX_VOLUMES, TILE_SIZE};
 pub use light_shadows::{ExtractedLightShadow, light_shadow_resolution};
 pub use material::FoggedGlassMaterial;
 pub use render::{FogViews, ViewFog};
 pub use settings::{
-    FogLightSelection, FogMediumSettings, FogVolumeShape, FroxelFog, FroxelFogVolume,
+    BlendMode, FogLightSelection, FogMediumSettings, FogVolumeShape, FroxelFog, FroxelFogVolume,
     FroxelFogVolumeTexture,
 };
 pub use transient::TransientFogLight;

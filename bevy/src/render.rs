@@ -12,7 +12,7 @@ use bevy::render::renderer::{RenderContext, RenderDevice, RenderQueue, ViewQuery
 use bevy::render::texture::GpuImage;
 use bevy::render::view::{ViewDepthStencilTexture, ViewTarget};
 use volfog::pipeline::apply::ApplyPipeline;
-use volfog::pipeline::{FogError, SharedFog, VolumetricFog};
+use volfog::pipeline::{FogConfig, FogError, SharedFog, VolumetricFog};
 
 use crate::extract::ExtractedFroxelFog;
 use crate::light_shadows::{BevyLights, BevyShadowLayout};
@@ -114,6 +114,7 @@ pub fn build_froxel_fog(
     queue: Res<RenderQueue>,
     mut fogs: ResMut<FogViews>,
     mut warned: Local<HashSet<Entity>>,
+    mut failed: Local<HashMap<Entity, FogConfig>>,
 ) {
     if fogs.fallback.is_none() {
         fogs.fallback = SharedFog::new(device.wgpu_device(), &queue, volfog::glam::UVec3::ONE).ok();
@@ -125,13 +126,16 @@ pub fn build_froxel_fog(
             .views
             .get(&entity)
             .is_some_and(|v| v.fog.config() == &extracted.config);
-        if current {
+        // A configuration that failed (a custom density that does not compose) is not
+        // built again each frame.
+        if current || failed.get(&entity) == Some(&extracted.config) {
             continue;
         }
         fogs.views.remove(&entity);
         match VolumetricFog::new(device.wgpu_device(), &extracted.config) {
             Ok(fog) => {
                 warned.remove(&entity);
+                failed.remove(&entity);
                 fogs.views.insert(
                     entity,
                     ViewFog {
@@ -151,6 +155,7 @@ pub fn build_froxel_fog(
                 if warned.insert(entity) {
                     warn!("volfog: view {entity}: {error}; the fog is off for this camera");
                 }
+                failed.insert(entity, extracted.config.clone());
             }
         }
     }

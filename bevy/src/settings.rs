@@ -2,6 +2,7 @@
 //! [`FroxelFogVolume`] on local fog volumes.
 
 use bevy::prelude::*;
+pub use volfog::uniforms::BlendMode;
 
 /// Froxel volumetric fog for a 3D camera: add it next to `Camera3d`. The fog is
 /// computed in a volume of froxels (screen tiles x depth slices) from the camera's
@@ -198,18 +199,27 @@ pub enum FogVolumeShape {
     Ellipsoid,
 }
 
-/// A local fog volume: density added (or, negative, removed) inside a box or an
-/// ellipsoid placed by the entity's transform. Every [`FroxelFog`] camera sees it.
+/// A local fog volume: density added, removed, scaled, capped, raised or set (its
+/// `blend`) inside a box or an ellipsoid placed by the entity's transform. Every
+/// [`FroxelFog`] camera sees it. The volumes blend into the medium in increasing
+/// `order`, volumes of the same order by entity.
 #[derive(Component, Clone, Debug, PartialEq)]
 #[require(Transform)]
 pub struct FroxelFogVolume {
     /// Box or ellipsoid.
     pub shape: FogVolumeShape,
-    /// Extinction added inside (1/m); negative clears fog (see
-    /// `volfog::limits::LOCAL_VOLUME_DENSITY`).
+    /// The volume's extinction inside (1/m), combined with the fog's by `blend`: added
+    /// (negative clears fog, see `volfog::limits::LOCAL_VOLUME_DENSITY`), or >= 0 for
+    /// the other modes (subtracted, the cap, the floor, the value, or under
+    /// `BlendMode::Multiply` the factor).
     pub density: f32,
     /// Width of the soft edge as a fraction of the shape's half extent, (0, 1].
     pub edge: f32,
+    /// How the volume combines with the fog before it (`volfog::uniforms::BlendMode`:
+    /// add by default, subtract to clear fog indoors, multiply, min, max, overwrite).
+    pub blend: BlendMode,
+    /// Where the volume comes in the blend: lower orders first (default 0).
+    pub order: i32,
 }
 
 /// The density texture of the [`FroxelFogVolume`] on the same entity: the red channel
@@ -235,6 +245,8 @@ impl Default for FroxelFogVolume {
             shape: FogVolumeShape::Box,
             density: 0.1,
             edge: 0.3,
+            blend: BlendMode::Add,
+            order: 0,
         }
     }
 }

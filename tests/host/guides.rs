@@ -227,12 +227,26 @@ const WGSL_STANDINS: [(&str, &str); 2] = [
 ];
 
 /// Every `wgsl` block composes with volfog's modules (`volfog::shaders::add_to_composer`)
-/// and validates in naga, with stand-ins for the engine's own helpers.
+/// and validates in naga, with stand-ins for the engine's own helpers; a block that
+/// defines a custom density (`volfog_custom_density`) composes into the inject pass as
+/// its module.
 #[test]
 fn every_guide_wgsl_block_composes_and_validates() {
     let wgsl = blocks("wgsl");
     assert!(!wgsl.is_empty(), "the guides show WGSL");
     for b in &wgsl {
+        let hook = volfog::shaders::CUSTOM_DENSITY;
+        if b.text.contains(&format!("fn {}(", hook.function)) {
+            let module = volfog::shaders::CustomModule::new(b.at.clone(), b.text.clone());
+            volfog::shaders::compose_with_custom(
+                "inject",
+                &[hook.define.to_string()],
+                Some(&module),
+            )
+            .unwrap_or_else(|e| panic!("{}: {e}", b.at));
+            eprintln!("{}: composed into inject as its custom density", b.at);
+            continue;
+        }
         let mut source = b.text.clone();
         for (defined, standin) in WGSL_STANDINS {
             if !b.text.contains(defined) {

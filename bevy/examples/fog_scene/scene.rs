@@ -512,6 +512,7 @@ fn spawn(
             shape: FogVolumeShape::Ellipsoid,
             density: 0.12,
             edge: 0.6,
+            ..default()
         },
         Transform::from_xyz(-7.2, 2.0, ROW_Z + 3.0).with_scale(Vec3::new(4.4, 5.2, 4.4)),
     ));
