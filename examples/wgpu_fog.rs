@@ -1,8 +1,8 @@
 //! The wgpu code of the README and of `docs/wgpu.md`, run on a device: the README's
 //! `VolumetricFog` in ten lines, the guide's frame with a shadow map, depth culling, a
 //! light and the far-plane tail, shadowed lamps with a cookie, epipolar sun shafts,
-//! local volumes that clear fog and add smoke, and a density of your own in WGSL. Each
-//! function sets up what
+//! short-lived lights (a muzzle flash, a lightning strike), local volumes that clear
+//! fog and add smoke, and a density of your own in WGSL. Each function sets up what
 //! the guide's lines take from the renderer around them (textures, camera, sun), then
 //! runs those lines as the guide shows them; the host tests check that every `rust`
 //! block of the guides appears here line for line.
@@ -38,6 +38,11 @@ fn main() -> Result {
         shadowed_lamps,
     )?;
     run(&gpu, "docs/wgpu.md: epipolar sun shafts", epipolar_shafts)?;
+    run(
+        &gpu,
+        "docs/wgpu.md: a muzzle flash and a lightning strike",
+        short_lived_lights,
+    )?;
     run(
         &gpu,
         "docs/wgpu.md: a house that clears the fog, and smoke inside it",
@@ -229,6 +234,45 @@ fn epipolar_shafts(gpu: &Gpu) -> Result {
     shafts.record_apply(&mut encoder, &composite, &lit_color_view);   // colour * T + L
 
     queue.submit([encoder.finish()]);
+    Ok(())
+}
+
+/// The wgpu guide's short-lived lights: a muzzle flash and a lightning strike that
+/// light one frame each, and leave nothing in the fog's history.
+#[rustfmt::skip]
+fn short_lived_lights(gpu: &Gpu) -> Result {
+    let (device, queue) = (gpu.device.clone(), gpu.queue.clone());
+    let Screen { lit_color_view, scene_depth_view, .. } = Screen::new(&device, &queue);
+    let (view_from_world, clip_from_view, time) = camera();
+    let muzzle_position = Vec3::new(0.3, 1.7, -1.0);
+
+    use volfog::pipeline::{FogConfig, FrameInputs, VolumetricFog};
+    use volfog::uniforms::FogLight;
+
+    let mut fog = VolumetricFog::new(&device, &FogConfig::default())?;  // room for 8 transient lights
+    let apply = fog.create_apply(&device, wgpu::TextureFormat::Rgba16Float)?;
+    let depth_group = apply.depth_bind_group(&device, &scene_depth_view);
+    // the frame the gun fires: the flash lights this frame's fog, all of it, at once
+    let flash = [FogLight::point(muzzle_position, glam::Vec3::new(400.0, 260.0, 90.0), 12.0)];
+    fog.prepare(&queue, &FrameInputs {
+        transient_lights: &flash,
+        ..FrameInputs::new(view_from_world, clip_from_view, time)
+    })?;
+    let mut encoder = device.create_command_encoder(&Default::default());
+    fog.encode(&mut encoder)?;              // the scan adds the flash after the temporal blend
+    fog.record_apply(&mut encoder, &apply, &lit_color_view, &depth_group)?;
+    queue.submit([encoder.finish()]);
+    // a lightning strike: a directional light (toward the light, illuminance) for a frame
+    let strike = [FogLight::directional(glam::Vec3::new(0.2, 1.0, -0.5).normalize(), glam::Vec3::splat(3.0))];
+    fog.prepare(&queue, &FrameInputs {
+        transient_lights: &strike,
+        ..FrameInputs::new(view_from_world, clip_from_view, time + 1.0 / 60.0)
+    })?;
+    let mut encoder = device.create_command_encoder(&Default::default());
+    fog.encode(&mut encoder)?;              // no trace of the flash: it never reached the history
+    fog.record_apply(&mut encoder, &apply, &lit_color_view, &depth_group)?;
+    queue.submit([encoder.finish()]);
+
     Ok(())
 }
 

@@ -27,7 +27,9 @@
 //! 8. the two shadow filters (`FogConfig::shadow_filter`) for the sun: the baseline's
 //!    inject (the default compare filter, one tap) and the same at two taps against ESM
 //!    downsample + ESM blur + inject of the baseline with `ShadowFilter::Esm`, the
-//!    order rotating from frame to frame.
+//!    order rotating from frame to frame;
+//! 9. short-lived lights (`FrameInputs::transient_lights`): the baseline's scan without
+//!    transient lights, with one and with eight, the order rotating from frame to frame.
 //!
 //! The baseline takes `FogConfig::default`'s shadow filter (the compare filter), so its
 //! ESM passes do not run; the ESM rows come from the ESM fog of 8.
@@ -51,6 +53,7 @@ mod report;
 pub(crate) mod scene;
 mod shadow_cost;
 mod table;
+mod transient;
 pub(crate) mod workloads;
 
 use std::path::PathBuf;
@@ -72,6 +75,8 @@ use passes::*;
 pub use report::*;
 pub use shadow_cost::*;
 pub use table::table;
+pub use transient::TransientCost;
+use transient::*;
 use workloads::*;
 
 /// Warm-up frames of a default run. On lavapipe (Mesa 22.3, 2 CPU cores) a frame of

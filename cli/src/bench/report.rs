@@ -330,6 +330,8 @@ pub struct Report {
     pub transmittance_inject_vs_without: f64,
     /// Each main pass against its memory floor at two bandwidths.
     pub cost: super::cost::CostModel,
+    /// The scan with short-lived lights.
+    pub transient_lights: TransientCost,
     /// Wall-clock time of the whole run, seconds.
     pub wall_seconds: f64,
 }
@@ -483,6 +485,7 @@ pub(super) fn summarize(
             / median("froxel_fast_separate_1080p"),
     };
     let cost = super::cost::model(config, &super::cost::sizes(config, live_fraction), &median)?;
+    let transient_lights = transient_cost(&median, &per_frame);
     let mib = to_mib(memory_bytes);
     Ok(Report {
         adapter: gpu.info.name.clone(),
@@ -519,6 +522,7 @@ pub(super) fn summarize(
             met: mib <= TARGET_MEMORY_MIB,
         },
         cost,
+        transient_lights,
         wall_seconds: start.elapsed().as_secs_f64(),
     })
 }

@@ -47,6 +47,11 @@ pub fn table(report: &Report) -> String {
         "  # the sun's shadow filters: the rows without # take the compare filter at one tap \
          (FogConfig::default); the ESM rows a fog with ShadowFilter::Esm, its inject beside them"
     );
+    let _ = writeln!(
+        out,
+        "  ~ the baseline's scan with short-lived lights (FrameInputs::transient_lights): \
+         none, a muzzle flash, eight (six points, a spot, a directional)"
+    );
     let l = &report.local_shadows;
     let _ = writeln!(
         out,
@@ -297,6 +302,7 @@ pub fn table(report: &Report) -> String {
             sites.join(", ")
         );
     }
+    transient_table(&mut out, &report.transient_lights);
     let m = &report.memory;
     let _ = writeln!(
         out,

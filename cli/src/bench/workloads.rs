@@ -60,6 +60,9 @@ pub(super) const SERIES: &[(&str, &str)] = &[
     ("local_kept_total", "inject + atlas, maps kept ++"),
     ("local_compare_unshadowed", "inject, compare, unshadowed ++"),
     ("local_compare_shadowed", "inject, compare, shadowed ++"),
+    ("scan_transient_0", "scan, no transient light ~"),
+    ("scan_transient_1", "scan, 1 transient light ~"),
+    ("scan_transient_8", "scan, 8 transient lights ~"),
 ];
 
 /// The target ratios taken frame by frame: (key, numerator series, denominator
@@ -79,6 +82,16 @@ pub(super) const PAIRED: &[(&str, &str, &str)] = &[
     ),
     ("compare_vs_esm", "inject", "esm_filter_total"),
     ("compare_2_vs_esm", "inject_compare_2", "esm_filter_total"),
+    (
+        "transient_1_vs_none",
+        "scan_transient_1",
+        "scan_transient_0",
+    ),
+    (
+        "transient_8_vs_none",
+        "scan_transient_8",
+        "scan_transient_0",
+    ),
 ];
 
 pub(super) fn froxel_cost(t: &PassTimings) -> f64 {
@@ -210,6 +223,8 @@ pub(super) struct Workloads {
     /// Four spot and two point lights, unshadowed, shadowed and without local shadows
     /// compiled in, over the main screen.
     pub(super) local_lights: LocalLights,
+    /// The baseline's scan with 0, 1 and 8 transient lights.
+    pub(super) transient: TransientLights,
 }
 
 impl Workloads {
@@ -313,6 +328,7 @@ impl Workloads {
         let shafts = Shafts::new(gpu, &scene, &cascades, &depth, &shadow_map)?;
         let reference_group = reference.bind_group(&gpu.device, &esm_view, &main.depth);
         let local_lights = LocalLights::new(gpu, &config, &scene, &shadow_map, &depth)?;
+        let transient = TransientLights::new(gpu, &config, &scene, cascades, &shadow_map, &depth)?;
         Ok(Self {
             config,
             scene,
@@ -336,6 +352,7 @@ impl Workloads {
             atmosphere: Atmosphere::new(gpu, &depth)?,
             shafts,
             local_lights,
+            transient,
         })
     }
 
@@ -417,6 +434,7 @@ impl Workloads {
         let [sky_t, shadow_t, clouds_t] = self.atmosphere.frame(gpu, timer, f)?;
         let shafts = self.shafts.frame(gpu, timer, with_raymarch)?;
         let local = self.local_lights.frame(gpu, &inputs, f)?;
+        let transient = self.transient.frame(gpu, &inputs, f)?;
         let index = self.main.fog.frame_index().expect("prepared above");
         let uniforms = inputs.uniforms(&self.config, index)?;
         self.reference.upload(
@@ -522,6 +540,9 @@ impl Workloads {
             ("local_kept_total", local.inject_kept + local.atlas_kept),
             ("local_compare_unshadowed", local.compare_unshadowed),
             ("local_compare_shadowed", local.compare_shadowed),
+            ("scan_transient_0", transient.none),
+            ("scan_transient_1", transient.one),
+            ("scan_transient_8", transient.eight),
         ]);
         samples.extend(raymarch_t.map(|r| ("raymarch_1080p", r)));
         samples.extend(shafts.reference.map(|r| ("epipolar_reference_1080p", r)));

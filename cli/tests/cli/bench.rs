@@ -355,6 +355,29 @@ fn quick_bench_writes_every_ratio_memory_and_adapter() {
         .as_f64()
         .unwrap_or(f64::NAN);
     assert!(live > 0.0 && live < 1.0, "the bench scene culls: {live}");
+
+    // Short-lived lights: the baseline's scan without, with one and with eight; eight
+    // lights evaluated at every froxel cost more than none.
+    assert!(stdout.contains("short-lived lights") || stderr.contains("short-lived lights"));
+    let t = &report["transient_lights"];
+    let get = |key: &str| t[key].as_f64().unwrap_or(f64::NAN);
+    for key in [
+        "scan_ms",
+        "scan_1_ms",
+        "scan_8_ms",
+        "separate_pass_floor_ms",
+    ] {
+        assert!(get(key).is_finite() && get(key) > 0.0, "{key}: {t}");
+    }
+    assert_eq!(get("scan_8_ms") - get("scan_ms"), get("added_8_ms"), "{t}");
+    assert!(get("scan_8_ms") > get("scan_ms"), "{t}");
+    for key in ["scan_1_vs_none", "scan_8_vs_none"] {
+        assert_eq!(
+            t[key]["samples"].as_array().map(Vec::len),
+            Some(1),
+            "{key}: {t}"
+        );
+    }
 }
 
 /// Depth-buffer values of a ground plane y = 0 (1 for the sky), row by row from the top.
