@@ -10,7 +10,7 @@ use crate::floor::{Sizes, Traffic, traffic};
 use crate::frame::FramePass;
 use crate::loops::{self, LoopInfo};
 use crate::model::{self, Corrected, Estimate, LoopMeasure};
-use crate::pipeline::{Job, render_state, runtime_job};
+use crate::pipeline::{Job, RuntimeChecks, job_with_checks, render_state};
 use crate::worker::Worker;
 use crate::{Chip, CostError, GpuModel, ShaderStats};
 
@@ -57,7 +57,7 @@ pub struct Measured {
 
 /// The loops of a shader and the jobs that measure them: the whole shader, then one
 /// per loop taken out.
-fn jobs(shader: &Shader) -> Result<(Vec<LoopInfo>, Vec<Job>), CostError> {
+fn jobs(shader: &Shader, checks: RuntimeChecks) -> Result<(Vec<LoopInfo>, Vec<Job>), CostError> {
     let missing = || CostError::Invalid {
         field: "entry",
         message: format!("{} has no entry point {}", shader.label, shader.entry),
@@ -66,7 +66,14 @@ fn jobs(shader: &Shader) -> Result<(Vec<LoopInfo>, Vec<Job>), CostError> {
     let module = loops::unshare(&shader.module, &shader.entry).ok_or_else(missing)?;
     let found = loops::loops(&module, &shader.entry).ok_or_else(missing)?;
     let job = |label: String, m: &naga::Module| {
-        runtime_job(&label, m, &shader.entry, shader.render.as_ref(), true)
+        job_with_checks(
+            &label,
+            m,
+            &shader.entry,
+            shader.render.as_ref(),
+            true,
+            checks,
+        )
     };
     let mut list = vec![job(shader.label.clone(), &module)?];
     for l in &found {
@@ -96,16 +103,28 @@ impl ChipMeasured {
 }
 
 /// Compiles every shader, and every shader with each of its loops taken out, on each
-/// chip (a worker process per chip, side by side).
+/// chip (a worker process per chip, side by side), as volfog's runtime creates its
+/// modules ([`RuntimeChecks::Checked`]).
 pub fn measure(
     worker: &Worker,
     chips: &[Chip],
     shaders: &[Shader],
 ) -> Result<BTreeMap<Chip, ChipMeasured>, CostError> {
+    measure_with_checks(worker, chips, shaders, |_| RuntimeChecks::Checked)
+}
+
+/// [`measure`], each shader written with the runtime checks `checks` gives it (another
+/// application's shaders as that application creates them).
+pub fn measure_with_checks(
+    worker: &Worker,
+    chips: &[Chip],
+    shaders: &[Shader],
+    checks: impl Fn(&Shader) -> RuntimeChecks,
+) -> Result<BTreeMap<Chip, ChipMeasured>, CostError> {
     let mut all_jobs = Vec::new();
     let mut plan = Vec::new();
     for s in shaders {
-        let (found, list) = jobs(s)?;
+        let (found, list) = jobs(s, checks(s))?;
         plan.push((s.label.clone(), found, all_jobs.len(), list.len()));
         all_jobs.extend(list);
     }

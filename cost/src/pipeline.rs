@@ -135,6 +135,22 @@ pub fn validate(module: &naga::Module, what: &str) -> Result<naga::valid::Module
     })
 }
 
+/// The runtime checks wgpu 30 writes into a shader module's SPIR-V.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum RuntimeChecks {
+    /// `Device::create_shader_module` (`ShaderRuntimeChecks::checked()`), as volfog's
+    /// runtime creates its modules: index bounds checks, bounded loops, checked
+    /// integer division.
+    #[default]
+    Checked,
+    /// `Device::create_shader_module_trusted` with `ShaderRuntimeChecks::unchecked()`,
+    /// as Bevy 0.20 creates its own shaders (`RenderDevice::create_shader_module`):
+    /// wgpu-hal then writes no bounds check, no loop bound and no division check
+    /// (`vulkan/device.rs`, `compile_stage`).
+    Unchecked,
+}
+
 /// The SPIR-V wgpu 30 writes for entry point `entry` of `module` on a Vulkan 1.3
 /// device with robust buffer and image access (RADV): wgpu-hal's options
 /// (`vulkan/adapter.rs`): SPIR-V 1.6, index bounds checks `Restrict`, buffer and
@@ -147,6 +163,17 @@ pub fn runtime_spirv(
     entry: &str,
     what: &str,
 ) -> Result<Vec<u32>, CostError> {
+    spirv_with_checks(module, info, entry, what, RuntimeChecks::Checked)
+}
+
+/// [`runtime_spirv`] with the runtime checks `checks`.
+pub fn spirv_with_checks(
+    module: &naga::Module,
+    info: &naga::valid::ModuleInfo,
+    entry: &str,
+    what: &str,
+    checks: RuntimeChecks,
+) -> Result<Vec<u32>, CostError> {
     let ep = module
         .entry_points
         .iter()
@@ -155,18 +182,23 @@ pub fn runtime_spirv(
             what: what.to_string(),
             message: format!("no entry point {entry}"),
         })?;
+    let checked = checks == RuntimeChecks::Checked;
     let options = spv::Options {
         lang_version: (1, 6),
         flags: spv::WriterFlags::LABEL_VARYINGS | spv::WriterFlags::FORCE_POINT_SIZE,
         bounds_check_policies: naga::proc::BoundsCheckPolicies {
-            index: naga::proc::BoundsCheckPolicy::Restrict,
+            index: if checked {
+                naga::proc::BoundsCheckPolicy::Restrict
+            } else {
+                naga::proc::BoundsCheckPolicy::Unchecked
+            },
             buffer: naga::proc::BoundsCheckPolicy::Unchecked,
             image_load: naga::proc::BoundsCheckPolicy::Unchecked,
             binding_array: naga::proc::BoundsCheckPolicy::Unchecked,
         },
         zero_initialize_workgroup_memory: spv::ZeroInitializeWorkgroupMemoryMode::Native,
-        force_loop_bounding: true,
-        emit_int_div_checks: true,
+        force_loop_bounding: checked,
+        emit_int_div_checks: checked,
         ..Default::default()
     };
     let pipeline = spv::PipelineOptions {
@@ -271,6 +303,25 @@ pub fn runtime_job(
     render: Option<&RenderState>,
     count_loops: bool,
 ) -> Result<Job, CostError> {
+    job_with_checks(
+        label,
+        module,
+        entry,
+        render,
+        count_loops,
+        RuntimeChecks::Checked,
+    )
+}
+
+/// [`runtime_job`] with the runtime checks `checks` (the vertex shader's too).
+pub fn job_with_checks(
+    label: &str,
+    module: &naga::Module,
+    entry: &str,
+    render: Option<&RenderState>,
+    count_loops: bool,
+    checks: RuntimeChecks,
+) -> Result<Job, CostError> {
     let info = validate(module, label)?;
     let ep = module
         .entry_points
@@ -281,7 +332,7 @@ pub fn runtime_job(
             message: format!("{label} has no entry point {entry}"),
         })?;
     let stage = StageCode {
-        spirv: runtime_spirv(module, &info, entry, label)?,
+        spirv: spirv_with_checks(module, &info, entry, label, checks)?,
         entry: entry.to_string(),
     };
     let mut bindings = bindings_of(module, &info, entry);
@@ -301,11 +352,12 @@ pub fn runtime_job(
                         bindings_of(&vertex_module, &vertex_info, vertex_entry),
                     );
                     StageCode {
-                        spirv: runtime_spirv(
+                        spirv: spirv_with_checks(
                             &vertex_module,
                             &vertex_info,
                             vertex_entry,
                             vertex_pass,
+                            checks,
                         )?,
                         entry: vertex_entry.to_string(),
                     }
@@ -322,7 +374,7 @@ pub fn runtime_job(
                         })?;
                     merge(&mut bindings, bindings_of(module, &info, &vertex_entry));
                     StageCode {
-                        spirv: runtime_spirv(module, &info, &vertex_entry, label)?,
+                        spirv: spirv_with_checks(module, &info, &vertex_entry, label, checks)?,
                         entry: vertex_entry,
                     }
                 }
@@ -361,4 +413,72 @@ pub fn render_state(pass: &str) -> Option<RenderState> {
 /// SPIR-V files alone. Labels are `variant.entry`.
 pub fn exported_jobs(dir: &Path) -> Result<Vec<Job>, CostError> {
     crate::exported::jobs(dir)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// `OpExtInst` instructions of the GLSL.std.450 set's `UMin` (38) in a module (the
+    /// clamp that a `Restrict` index bounds check writes).
+    fn umins(words: &[u32]) -> usize {
+        let mut n = 0;
+        let mut i = 5;
+        while i < words.len() {
+            let (count, op) = ((words[i] >> 16) as usize, words[i] & 0xffff);
+            if op == 12 && words.get(i + 4) == Some(&38) {
+                n += 1;
+            }
+            i += count.max(1);
+        }
+        n
+    }
+
+    #[test]
+    fn unchecked_modules_carry_no_bounds_check_and_no_loop_bound() {
+        let module = naga::front::wgsl::parse_str(
+            "
+            @group(0) @binding(0) var<storage, read_write> data: array<f32, 64>;
+            @group(0) @binding(1) var<uniform> n: vec4<u32>;
+            @compute @workgroup_size(64)
+            fn main(@builtin(local_invocation_index) i: u32) {
+                var a = array<f32, 4>(1.0, 2.0, 3.0, 4.0);
+                var s = 0.0;
+                for (var k = 0u; k < n.x; k++) {
+                    s += a[k];
+                }
+                data[i] = s;
+            }",
+        )
+        .unwrap();
+        let info = validate(&module, "checks").unwrap();
+        let checked =
+            spirv_with_checks(&module, &info, "main", "checks", RuntimeChecks::Checked).unwrap();
+        let unchecked =
+            spirv_with_checks(&module, &info, "main", "checks", RuntimeChecks::Unchecked).unwrap();
+        assert_eq!(
+            checked,
+            runtime_spirv(&module, &info, "main", "checks").unwrap()
+        );
+        // The dynamic index into `a` is clamped only when checked, and the loop's bound
+        // (a second counter and its compare) adds words.
+        assert!(umins(&checked) >= 1);
+        assert_eq!(umins(&unchecked), 0);
+        assert!(
+            unchecked.len() < checked.len(),
+            "{} {}",
+            unchecked.len(),
+            checked.len()
+        );
+        // Both are pipelines RADV would be handed: the same bindings.
+        let job = |c| job_with_checks("checks", &module, "main", None, false, c).unwrap();
+        let (a, b) = (job(RuntimeChecks::Checked), job(RuntimeChecks::Unchecked));
+        match (&a.pipeline, &b.pipeline) {
+            (
+                PipelineDesc::Compute { bindings: x, .. },
+                PipelineDesc::Compute { bindings: y, .. },
+            ) => assert_eq!(x, y),
+            _ => panic!("compute pipelines"),
+        }
+    }
 }

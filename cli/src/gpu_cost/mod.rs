@@ -8,7 +8,10 @@
 //! grid, with the bench's per-pixel raymarch and the floors (a plain write and copy
 //! of the volume, a blit) on the same models. No GPU is needed: RADV compiles for a
 //! chip that is not there, one worker process per chip (`volfog radv-worker`).
+//! With `--bevy`, Bevy's own `VolumetricFog` beside volfog in `fog_bench`'s scene on the
+//! same models, from the report of the Bevy plugin's `fog_gpu_cost` example.
 
+mod bevy;
 mod inputs;
 mod table;
 mod transient;
@@ -25,6 +28,7 @@ use volfog_cost::worker::Worker;
 use volfog_cost::workload::Workload;
 use volfog_cost::{Chip, CostError, GpuModel, MODELS, ShaderStats};
 
+pub use bevy::{BevyPeer, BevyRow};
 pub use inputs::{SCREEN, WRONSKI_GRID, configs};
 pub use table::table;
 pub use transient::{TRANSIENT_LIGHT_COUNTS, TransientModel};
@@ -42,6 +46,11 @@ pub struct GpuCostArgs {
     /// Print the JSON report to stdout; the tables go to stderr.
     #[arg(long)]
     pub json: bool,
+    /// Add Bevy's own `VolumetricFog` beside volfog in `fog_bench`'s scene on the same
+    /// models, from this `fog_gpu_cost.json` (written by `cargo run -p volfog-bevy
+    /// --example fog_gpu_cost` in `bevy/`, by default to `out/bevy/fog_gpu_cost.json`).
+    #[arg(long, value_name = "FOG_GPU_COST_JSON")]
+    pub bevy: Option<PathBuf>,
 }
 
 /// Errors of `volfog gpu-cost`.
@@ -62,6 +71,14 @@ pub enum GpuCostError {
     /// The worker's own program could not be found.
     #[error("the path of this program (to start its workers): {0}")]
     CurrentExe(std::io::Error),
+    /// The Bevy comparison's report could not be read.
+    #[error("reading Bevy's fog report {path}: {message}")]
+    Bevy {
+        /// The report's path.
+        path: PathBuf,
+        /// What was wrong.
+        message: String,
+    },
     /// Writing the report failed.
     #[error("writing {path}: {source}")]
     Io {
@@ -142,6 +159,8 @@ pub struct Report {
     pub filters: Vec<FilterModel>,
     /// The frames' scan with transient lights ([`TRANSIENT_LIGHT_COUNTS`]).
     pub transient: Vec<TransientModel>,
+    /// Bevy's own fog beside volfog in `fog_bench`'s scene (`--bevy`).
+    pub bevy: Option<BevyPeer>,
 }
 
 /// The shadow filters the report sets side by side: the compare filter with one (the
@@ -286,6 +305,7 @@ fn plan(
 /// Runs the compiles (one worker per chip, started by `worker`) and the model.
 pub fn run(args: &GpuCostArgs, worker: &Worker) -> Result<Report, GpuCostError> {
     let chips = chips(&args.chips)?;
+    let peer = args.bevy.as_deref().map(bevy::read).transpose()?;
     volfog_cost::worker::check_radv()?;
     let listed = pipelines(&configs())?;
     eprintln!(
@@ -447,5 +467,6 @@ pub fn run(args: &GpuCostArgs, worker: &Worker) -> Result<Report, GpuCostError> 
         frames,
         filters,
         transient,
+        bevy: peer,
     })
 }

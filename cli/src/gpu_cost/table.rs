@@ -6,7 +6,8 @@ use volfog_cost::measure::PassModel;
 
 use super::{FilterModel, FrameModel, Report};
 
-fn ms(v: f64) -> String {
+/// A time in ms: 3 decimals under 1 ms, 2 from there.
+pub(super) fn ms(v: f64) -> String {
     if v >= 1.0 {
         format!("{v:.2}")
     } else {
@@ -208,6 +209,9 @@ pub fn table(report: &Report) -> String {
     }
     filters(&mut out, &report.filters);
     super::transient::table(&mut out, &report.transient);
+    if let Some(peer) = &report.bevy {
+        super::bevy::table(&mut out, peer);
+    }
     out
 }
 

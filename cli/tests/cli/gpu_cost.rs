@@ -345,6 +345,7 @@ fn gpu_cost_models_the_bench_frame_on_the_xbox_one() {
         chips: vec!["bonaire".to_string()],
         out: PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("gpu-cost.json"),
         json: false,
+        bevy: None,
     };
     let report = volfog_cli::gpu_cost::run(&args, &worker()).unwrap_or_else(|e| panic!("{e}"));
     assert_eq!(report.chips.len(), 1);
