@@ -444,7 +444,10 @@ pub const PASSES: &[PassSource] = &[
                 bindings 29 and 30 are the spot lights' shadow maps and the point lights' \
                 cube maps (six layers a cube), 2D arrays of depth bound as unfilterable \
                 float (bind a 1 x 1 array where there is none), which \
-                LightProjection.layer indexes directly. Under \
+                LightProjection.layer indexes directly; with VOLFOG_FROXEL_CULL binding 32 \
+                is the scene depth froxel_cull reads, bound as unfilterable float (where \
+                ShadowTaps.use_scene_depth is 1 the taps are moved in front of its surface; \
+                bind a 1 x 1 texture where there is none). Under \
                 VOLFOG_INJECT_CUSTOM_DENSITY (composed with the user's module, never \
                 prebuilt) binding 31 is the FogCustomParams uniform (128 bytes: eight \
                 vec4 the user's function reads).",

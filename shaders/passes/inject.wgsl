@@ -52,6 +52,10 @@
 //  30  texture_2d_array<f32>: the point lights' cube shadow maps, six layers a cube
 //      (27-28 VOLFOG_INJECT_SHADOW_COMPARE only; 29-30 with VOLFOG_INJECT_LOCAL_SHADOWS,
 //      which then binds no atlas at 18)
+//  32  texture_2d<f32>: the scene depth depth culling reads (froxel_cull's binding 1),
+//      bound as unfilterable float: shadow taps are moved in front of its opaque
+//      surface when ShadowTaps.use_scene_depth is 1 (VOLFOG_INJECT_SHADOW_COMPARE with
+//      VOLFOG_FROXEL_CULL only; bind a 1 x 1 texture where there is none)
 // Lights and local volumes are culled per workgroup: those whose range or extent touches
 // the block's bounding sphere are gathered in workgroup memory (at most 64 lights; when
 // more than 64 local volumes touch a block, every volume is evaluated), so distant ones
@@ -142,6 +146,9 @@
 #import volfog::froxel::{ndc_from_uv, slice_depth}
 #import volfog::esm::esm_cascade
 #import volfog::shadow::shadow_cascade_compare
+#ifdef VOLFOG_FROXEL_CULL
+#import volfog::shadow::shadow_tap_visible_depth
+#endif
 #else
 #import volfog::esm::{esm_cascade, esm_shadow_cascade}
 #endif
@@ -193,6 +200,9 @@
 #ifdef VOLFOG_FROXEL_CULL
 @group(0) @binding(11) var live_slices: texture_2d<u32>;
 @group(0) @binding(14) var<storage, read> live_blocks: array<u32>;
+#ifdef VOLFOG_INJECT_SHADOW_COMPARE
+@group(0) @binding(32) var scene_depth: texture_2d<f32>;
+#endif
 #endif
 #ifdef VOLFOG_INJECT_CUSTOM_DENSITY
 @group(0) @binding(31) var<uniform> custom_params: FogCustomParams;
@@ -304,13 +314,34 @@ fn stabilise(at: vec4<f32>, id: vec3<u32>, now: vec4<f32>) -> vec4<f32> {
 #ifdef VOLFOG_INJECT_SHADOW_COMPARE
 // World position (xyz) and view depth (w, m) of shadow tap t of froxel id: the camera
 // plus the taps' affine ray of its screen position times its view depth (no matrix, so
-// the lights' loops keep few values live).
+// the lights' loops keep few values live). With depth culling's scene depth
+// (ShadowTaps.use_scene_depth) the depth is moved in front of the scene's surface
+// (shadow_tap_visible_depth).
 fn shadow_tap(id: vec3<u32>, t: u32) -> vec4<f32> {
     let cell = (vec3<f32>(id) + 0.5 + shadow_taps.offsets[t].xyz) / vec3<f32>(froxels.size);
     let ndc = ndc_from_uv(cell.xy);
-    let depth = slice_depth(cell.z, froxels.near, froxels.far, froxels.curve);
+    var depth = slice_depth(cell.z, froxels.near, froxels.far, froxels.curve);
+#ifdef VOLFOG_FROXEL_CULL
+    if shadow_taps.use_scene_depth != 0u {
+        let size = f32(froxels.size.z);
+        let near = slice_depth(f32(id.z) / size, froxels.near, froxels.far, froxels.curve);
+        let far = slice_depth(f32(id.z + 1u) / size, froxels.near, froxels.far, froxels.curve);
+        depth = shadow_tap_visible_depth(scene_depth, cell.xy, depth, near, far, shadow_taps.camera_depth_terms);
+    }
+#endif
     let ray = shadow_taps.ray_origin + shadow_taps.ray_x * ndc.x + shadow_taps.ray_y * ndc.y;
     return vec4<f32>(frame.camera_position + ray * depth, depth);
+}
+
+// Tap 0 of froxel id: the froxel's sample at `world` and view depth `view_depth`, or
+// through shadow_tap where the scene depth may move it.
+fn first_tap(id: vec3<u32>, world: vec3<f32>, view_depth: f32) -> vec4<f32> {
+#ifdef VOLFOG_FROXEL_CULL
+    if shadow_taps.use_scene_depth != 0u {
+        return shadow_tap(id, 0u);
+    }
+#endif
+    return vec4<f32>(world, view_depth);
 }
 
 // The sun's visibility at a world position and view depth through the cascade that
@@ -325,10 +356,10 @@ fn sun_compare(world: vec3<f32>, view_depth: f32) -> f32 {
         cascade, world, shadow_taps.sun_reversed_z != 0u);
 }
 
-// The sun's visibility in froxel id: the mean over `taps` taps, tap 0 being the
-// froxel's sample at `world` and view depth `view_depth`.
-fn sun_visibility(id: vec3<u32>, world: vec3<f32>, view_depth: f32, taps: u32) -> f32 {
-    var sum = sun_compare(world, view_depth);
+// The sun's visibility in froxel id: the mean over `taps` taps, tap 0 at world
+// position `first.xyz` and view depth `first.w` (first_tap).
+fn sun_visibility(id: vec3<u32>, first: vec4<f32>, taps: u32) -> f32 {
+    var sum = sun_compare(first.xyz, first.w);
     for (var t = 1u; t < taps; t++) {
         let tap = shadow_tap(id, t);
         sum += sun_compare(tap.xyz, tap.w);
@@ -338,7 +369,7 @@ fn sun_visibility(id: vec3<u32>, world: vec3<f32>, view_depth: f32, taps: u32) -
 
 #ifdef VOLFOG_INJECT_LOCAL_SHADOWS
 // A shadowed point or spot light's visibility in froxel id: the mean over `taps` taps,
-// tap 0 being the froxel's sample at `world`.
+// tap 0 at `world` (first_tap).
 fn local_visibility(p: LightProjection, id: vec3<u32>, world: vec3<f32>, taps: u32) -> f32 {
     var sum = local_shadow_compare(spot_shadow_maps, point_shadow_maps, gather_sampler, p, world);
     for (var t = 1u; t < taps; t++) {
@@ -417,9 +448,10 @@ fn froxel_scattering(id: vec3<u32>, tile_light_count: u32, tile_volume_count: u3
 
     // Lighting.
 #ifdef VOLFOG_INJECT_SHADOW_COMPARE
+    let first = first_tap(id, world, abs(view.z));
     var shadow = 1.0;
     if shadow_cascades.count > 0u {
-        shadow = sun_visibility(id, world, abs(view.z), taps);
+        shadow = sun_visibility(id, first, taps);
     }
 #else
     // The cascade's matrix is read from the uniform with the varying index (see
@@ -466,7 +498,7 @@ fn froxel_scattering(id: vec3<u32>, tile_light_count: u32, tile_volume_count: u3
             }
             let p = light_projections[local_light.projection];
 #ifdef VOLFOG_INJECT_SHADOW_COMPARE
-            let visibility = local_visibility(p, id, world, taps);
+            let visibility = local_visibility(p, id, first.xyz, taps);
 #else
             let visibility = local_shadow_visibility(local_shadow_atlas, p, world);
 #endif

@@ -19,6 +19,7 @@
 #define_import_path volfog::shadow
 
 #import volfog::esm::esm_shadow_coord
+#import volfog::frustum::frustum_depth_from_terms
 
 // Visibility in [0, 1] of a receiver at depth `receiver` through the 2 x 2 texels around
 // uv of layer `layer`, each compare weighted bilinearly (percentage-closer filtering).
@@ -67,6 +68,39 @@ fn shadow_cascade_compare(
     }
     let depth = clamp(coord.z, 0.0, 1.0);
     return shadow_pcf(map, gather, coord.xy, layer, select(depth, 1.0 - depth, reversed), !reversed);
+}
+
+// The view depth (m) at which a shadow tap samples the fog the camera sees: a tap at
+// screen uv (v down) and view depth `view_depth` in a froxel spanning view depths
+// [near, far] (m) is moved, with every tap of that screen position, into the part of
+// the span in front of the opaque surface the scene depth holds there,
+// near + (view_depth - near) clamp((surface - near) / (far - near), 0, 1). The fog
+// ends at that surface, and a tap behind it, inside an object, would read the object's
+// own shadow; uniform taps over the froxel stay uniform over its visible part (at the
+// near face where the surface hides all of it). `surface_depth` is the camera's
+// depth texture (device depth, any mip level), interpolated bilinearly between texel
+// centres: device depth is affine in screen position across a plane, so a plane's
+// depth comes out exact between texels (at a grazing view one texel spans metres of
+// depth); `depth_terms` are the camera projection's depth terms (volfog::frustum).
+fn shadow_tap_visible_depth(
+    surface_depth: texture_2d<f32>,
+    uv: vec2<f32>,
+    view_depth: f32,
+    near: f32,
+    far: f32,
+    depth_terms: vec4<f32>,
+) -> f32 {
+    let size = vec2<i32>(textureDimensions(surface_depth));
+    let texel = clamp(uv, vec2<f32>(0.0), vec2<f32>(1.0)) * vec2<f32>(size) - 0.5;
+    let base = floor(texel);
+    let f = texel - base;
+    let lo = clamp(vec2<i32>(base), vec2<i32>(0), size - 1);
+    let hi = clamp(vec2<i32>(base) + 1, vec2<i32>(0), size - 1);
+    let top = mix(textureLoad(surface_depth, lo, 0).r, textureLoad(surface_depth, vec2<i32>(hi.x, lo.y), 0).r, f.x);
+    let bottom = mix(textureLoad(surface_depth, vec2<i32>(lo.x, hi.y), 0).r, textureLoad(surface_depth, hi, 0).r, f.x);
+    let surface = frustum_depth_from_terms(depth_terms, mix(top, bottom, f.y));
+    let visible = clamp((surface - near) / max(far - near, 1e-6), 0.0, 1.0);
+    return near + (view_depth - near) * visible;
 }
 
 // Depth value in [0, 1] a perspective shadow camera stores for view depth z (m, > 0),

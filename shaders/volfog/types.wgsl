@@ -314,6 +314,15 @@ struct ShadowTaps {
     // 1: the sun's shadow map holds reversed depth (1 at the light's near plane); the
     // cascades' light_from_world still give standard depth.
     sun_reversed_z: u32,
+    // The camera's depth terms: view depth (m) of a scene-depth value d is
+    // -(x d + y) / (z d + w) (FrustumRays.depth_terms).
+    camera_depth_terms: vec4<f32>,
+    // 1: the scene's depth is bound (with depth culling), and the taps of each froxel
+    // are moved into its part in front of the opaque surface that depth holds at their
+    // screen position (volfog::shadow::shadow_tap_visible_depth: the fog the camera
+    // sees ends at that surface; a tap inside an object would read the object's own
+    // shadow). 0: the taps stay where they are.
+    use_scene_depth: u32,
 }
 
 // The short-lived lights of a frame (VOLFOG_SCAN_TRANSIENT_LIGHTS of the scan): point,

@@ -11,6 +11,7 @@ use super::density::{
 };
 use super::esm::{Layer, esm_cascade, esm_shadow};
 use super::froxel::froxel_view_position;
+use super::froxel::slice_depth;
 use super::lights::{
     ambient_inscatter, fog_light_inscatter, fog_light_transmittance, sun_inscatter,
     sun_inscatter_two_color,
@@ -19,7 +20,7 @@ use super::local_shadow::{
     ColorLayer, light_cookie, local_shadow_compare, local_shadow_visibility,
 };
 use super::noise::{noise_animated, noise_animated_texture};
-use super::shadow::{shadow_cascade_compare, shadow_tap_world};
+use super::shadow::{shadow_cascade_compare, shadow_tap_visible_depth, shadow_tap_world};
 pub use super::texture::DensityTexture;
 use crate::options::InjectOptions;
 use crate::uniforms::{
@@ -84,6 +85,10 @@ pub struct InjectInputs<'a> {
     /// (`VOLFOG_INJECT_LOCAL_SHADOWS`); `None` lights every point and spot light
     /// unshadowed.
     pub local_shadows: Option<LocalShadowInputs<'a>>,
+    /// The scene depth depth culling reads (device depths), where
+    /// `ShadowTaps::use_scene_depth` is 1: the compare filter moves its taps in front of
+    /// its surface (`shadow_tap_visible_depth`); `None` leaves them where they are.
+    pub scene_depth: Option<&'a Layer>,
 }
 
 /// What the local-shadow variant of inject reads besides the lights.
@@ -140,18 +145,33 @@ pub fn injected_source(id: UVec3, frame: &FogFrame, slices: u32) -> UVec3 {
 
 /// The world position and view depth of shadow tap `tap` of froxel `id` (tap 0: the
 /// froxel's sample, as [`froxel_world_position`]; the others through the taps' affine
-/// rays, [`shadow_tap_world`]).
+/// rays, [`shadow_tap_world`]). With a scene depth (`ShadowTaps::use_scene_depth` 1) every
+/// tap goes through the rays, its depth moved in front of the surface
+/// ([`shadow_tap_visible_depth`]).
 pub fn shadow_tap_position(inputs: &InjectInputs<'_>, id: UVec3, tap: u32) -> (Vec3, f32) {
-    if tap == 0 {
-        return froxel_world_position(inputs.froxels, inputs.frame, id, inputs.options.jitter);
+    let t = inputs.shadow_taps;
+    let f = inputs.froxels;
+    let offset = t.offsets[tap as usize].truncate();
+    match inputs.scene_depth {
+        Some(depth) if t.use_scene_depth != 0 => {
+            let cell = (id.as_vec3() + 0.5 + offset) / f.size.as_vec3();
+            let (world, view_depth) =
+                shadow_tap_world(f, t, inputs.frame.camera_position, id, offset);
+            let slice = |z: u32| slice_depth(z as f32 / f.size.z as f32, f.near, f.far, f.curve);
+            let moved = shadow_tap_visible_depth(
+                depth,
+                cell.truncate(),
+                view_depth,
+                slice(id.z),
+                slice(id.z + 1),
+                t.camera_depth_terms,
+            );
+            let camera = inputs.frame.camera_position;
+            (camera + (world - camera) * (moved / view_depth), moved)
+        }
+        _ if tap == 0 => froxel_world_position(f, inputs.frame, id, inputs.options.jitter),
+        _ => shadow_tap_world(f, t, inputs.frame.camera_position, id, offset),
     }
-    shadow_tap_world(
-        inputs.froxels,
-        inputs.shadow_taps,
-        inputs.frame.camera_position,
-        id,
-        inputs.shadow_taps.offsets[tap as usize].truncate(),
-    )
 }
 
 /// The sun's visibility at a world position and view depth by the compare filter:
@@ -170,8 +190,8 @@ fn sun_compare(inputs: &InjectInputs<'_>, world: Vec3, view_depth: f32) -> f32 {
     )
 }
 
-/// The mean over `taps` shadow taps of froxel `id` of a visibility at a world position
-/// and view depth.
+/// The mean over froxel `id`'s `taps` shadow taps ([`shadow_tap_position`]) of a
+/// visibility at a world position and view depth.
 fn tap_mean(inputs: &InjectInputs<'_>, id: UVec3, taps: u32, f: impl Fn(Vec3, f32) -> f32) -> f32 {
     let taps = taps.max(1);
     let sum: f32 = (0..taps)

@@ -63,6 +63,7 @@ pub fn shadow_tap_rays(view_from_clip: glam::Mat4, world_from_view: glam::Mat4) 
 /// through the froxel as the jitter does (a rotation of the jitter's Halton points),
 /// and one frame's taps spread over it.
 pub fn shadow_taps(jitter: Vec3, count: u32, sun_reversed_z: bool, rays: [Vec3; 3]) -> ShadowTaps {
+    let default = ShadowTaps::default();
     let count = count.clamp(1, MAX_SHADOW_TAPS / 4);
     let mut offsets = [Vec4::ZERO; MAX_SHADOW_TAPS as usize];
     for (t, o) in offsets.iter_mut().enumerate() {
@@ -76,7 +77,42 @@ pub fn shadow_taps(jitter: Vec3, count: u32, sun_reversed_z: bool, rays: [Vec3; 
         fresh: 4 * count,
         ray_y: rays[2],
         sun_reversed_z: u32::from(sun_reversed_z),
+        camera_depth_terms: default.camera_depth_terms,
+        use_scene_depth: 0,
     }
+}
+
+/// The view depth (m) at which a shadow tap samples the fog the camera sees
+/// (`shadow_tap_visible_depth`): a tap at screen uv (v down) and view depth
+/// `view_depth` in a froxel spanning view depths `near..far` (m) is moved into the part
+/// of the span in front of the surface `scene_depth` (device depths, interpolated
+/// bilinearly between texel centres, clamp to edge) holds at uv,
+/// `near + (view_depth - near) clamp((surface - near) / (far - near), 0, 1)`, the
+/// surface's view depth from the camera's `depth_terms`.
+pub fn shadow_tap_visible_depth(
+    scene_depth: &Layer,
+    uv: Vec2,
+    view_depth: f32,
+    near: f32,
+    far: f32,
+    depth_terms: Vec4,
+) -> f32 {
+    let size = Vec2::new(scene_depth.width as f32, scene_depth.height as f32);
+    let texel = uv.clamp(Vec2::ZERO, Vec2::ONE) * size - 0.5;
+    let base = texel.floor();
+    let f = texel - base;
+    let (x, y) = (base.x as i32, base.y as i32);
+    let top = lerp(scene_depth.at(x, y), scene_depth.at(x + 1, y), f.x);
+    let bottom = lerp(scene_depth.at(x, y + 1), scene_depth.at(x + 1, y + 1), f.x);
+    let device = lerp(top, bottom, f.y);
+    let surface = super::frustum::frustum_depth_from_terms(depth_terms, device);
+    let visible = ((surface - near) / (far - near).max(1e-6)).clamp(0.0, 1.0);
+    near + (view_depth - near) * visible
+}
+
+/// `a + (b - a) t`, as WGSL's `mix`.
+fn lerp(a: f32, b: f32, t: f32) -> f32 {
+    a + (b - a) * t
 }
 
 /// World position and view depth (m) of the point at `offset` (froxel units) in froxel

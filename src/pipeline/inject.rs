@@ -43,6 +43,10 @@ pub struct InjectResources<'a> {
     /// The live-slice texture and the live blocks of `froxel_cull` (required by the
     /// depth-culling variant).
     pub culling: Option<(&'a wgpu::TextureView, &'a wgpu::Buffer)>,
+    /// The scene depth depth culling reads, or a 1 x 1 float texture while there is
+    /// none (required by the variant with depth culling and the compare filter, binding
+    /// 32: its shadow taps behind the scene's surface are left out).
+    pub scene_depth: Option<&'a wgpu::TextureView>,
     /// The baked noise texture and its linear, repeat sampler (required by the
     /// noise-texture variant).
     pub noise_texture: Option<(&'a wgpu::TextureView, &'a wgpu::Sampler)>,
@@ -139,6 +143,9 @@ impl InjectPass {
         if options.depth_cull {
             entries.push(uint_texture_entry(11));
             entries.push(storage_buffer_entry(14, c, true));
+            if options.shadow_compare {
+                entries.push(texture_entry(32, c, wgpu::TextureViewDimension::D2, false));
+            }
         }
         if options.noise_texture {
             entries.push(texture_entry(12, c, wgpu::TextureViewDimension::D3, true));
@@ -260,6 +267,15 @@ impl InjectPass {
             })?;
             resources.push((11, wgpu::BindingResource::TextureView(view)));
             resources.push((14, blocks.as_entire_binding()));
+            if self.options.shadow_compare {
+                let depth = r.scene_depth.ok_or_else(|| {
+                    missing(
+                        "InjectResources.scene_depth",
+                        "the scene depth (or a 1 x 1 texture)",
+                    )
+                })?;
+                resources.push((32, wgpu::BindingResource::TextureView(depth)));
+            }
         }
         if self.options.noise_texture {
             let (view, sampler) = r.noise_texture.ok_or_else(|| {

@@ -86,6 +86,13 @@ pub struct ShadowTaps {
     pub ray_y: Vec3,
     /// 1: the sun's shadow map holds reversed depth.
     pub sun_reversed_z: u32,
+    /// The camera's depth terms (view depth of a scene-depth value d:
+    /// `-(x d + y) / (z d + w)`).
+    pub camera_depth_terms: Vec4,
+    /// 1: a scene depth is bound (depth culling), and each froxel's taps are moved into
+    /// the part of it in front of the surface that depth holds
+    /// (`cpu::shadow::shadow_tap_visible_depth`); 0: the taps stay where they are.
+    pub use_scene_depth: u32,
 }
 
 impl Default for ShadowTaps {
@@ -99,6 +106,9 @@ impl Default for ShadowTaps {
             fresh: 1,
             ray_y: Vec3::Y,
             sun_reversed_z: 0,
+            // Standard depth from 1 m to 2 m.
+            camera_depth_terms: Vec4::new(0.0, -2.0, -1.0, 2.0),
+            use_scene_depth: 0,
         }
     }
 }

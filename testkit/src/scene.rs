@@ -341,6 +341,16 @@ fn expected_shadow_taps(config: &FogConfig, index: u32, inputs: &FrameInputs<'_>
         fresh: 4 * taps,
         ray_y: ray(0.0, 1.0) - ray(0.0, 0.0),
         sun_reversed_z: u32::from(config.shadow_reversed_z),
+        // The view depth of a device depth d is -p.z / p.w of the inverse projection's
+        // (0, 0, d, 1): its depth rows.
+        camera_depth_terms: Vec4::new(
+            view_from_clip.z_axis.z,
+            view_from_clip.w_axis.z,
+            view_from_clip.z_axis.w,
+            view_from_clip.w_axis.w,
+        ),
+        // Set by a frame with a scene depth (depth culling).
+        use_scene_depth: 0,
     }
 }
 

@@ -556,6 +556,7 @@ fn fog_carries_the_cloud_shadows() {
         noise_texture: None,
         clouds: Some((&map, &layer)),
         local_shadows: None,
+        scene_depth: None,
     };
     let size = config.volume_size;
     let (mut worst, mut shadowed, mut open) = (0.0f32, 0, 0);

@@ -312,6 +312,8 @@ fn rust_layouts() -> BTreeMap<&'static str, Measured> {
             fresh: u32,
             ray_y: Vec3,
             sun_reversed_z: u32,
+            camera_depth_terms: Vec4,
+            use_scene_depth: u32,
         }),
         measure!(TransientLighting {
             camera_position: Vec3,

@@ -13,7 +13,10 @@ impl VolumetricFog {
         queue: &wgpu::Queue,
         inputs: &FrameInputs<'_>,
     ) -> Result<(), FogError> {
-        let u = inputs.uniforms(&self.config, self.frames)?;
+        let mut u = inputs.uniforms(&self.config, self.frames)?;
+        // Shadow taps behind the scene's surface are left out once a scene depth is set.
+        u.shadow_taps.use_scene_depth =
+            u32::from(self.culling.as_ref().is_some_and(|c| c.depth.is_some()));
         if inputs.cascades.count > 0 && self.shadow_map.is_none() {
             return Err(FogError::Invalid(crate::limits::InvalidValue {
                 field: "ShadowCascades.count",

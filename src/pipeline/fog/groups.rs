@@ -27,6 +27,7 @@ impl VolumetricFog {
             .as_ref()
             .filter(|_| self.config.fused_temporal());
         let sun_view = self.inject_sun_view();
+        let scene_depth = scene_depth_view(self.culling.as_ref(), &self.esm_texture);
         let groups = |inject: &InjectPass| {
             [0, 1].map(|p| {
                 let (output, temporal) =
@@ -43,6 +44,7 @@ impl VolumetricFog {
                         noise: self.noise.as_ref(),
                         clouds: self.clouds.as_ref(),
                         local_shadows: self.local_shadows.as_ref(),
+                        scene_depth: Some(&scene_depth),
                         temporal,
                     },
                 )
@@ -195,6 +197,40 @@ pub(super) struct InjectTextures<'a> {
     pub(super) clouds: Option<&'a CloudShadow>,
     pub(super) local_shadows: Option<&'a LocalShadows>,
     pub(super) temporal: Option<InjectTemporalResources<'a>>,
+    /// The scene depth culling reads, or a 1 x 1 placeholder (binding 32 of the
+    /// compare filter's culling variant).
+    pub(super) scene_depth: Option<&'a wgpu::TextureView>,
+}
+
+/// The view inject reads the scene depth through: the depth culling's texture at its
+/// mip level, or the layer 0 of `placeholder` (an R32Float array) while none is set.
+pub(super) fn scene_depth_view(
+    culling: Option<&Culling>,
+    placeholder: &wgpu::Texture,
+) -> wgpu::TextureView {
+    match culling.and_then(|c| c.depth.as_ref()) {
+        Some((texture, mip_level, _)) => depth_view(texture, *mip_level),
+        None => placeholder.create_view(&wgpu::TextureViewDescriptor {
+            dimension: Some(wgpu::TextureViewDimension::D2),
+            array_layer_count: Some(1),
+            ..Default::default()
+        }),
+    }
+}
+
+/// A `D2` view of one mip level of a scene depth (its depth aspect where it has one).
+pub(super) fn depth_view(texture: &wgpu::Texture, mip_level: u32) -> wgpu::TextureView {
+    texture.create_view(&wgpu::TextureViewDescriptor {
+        dimension: Some(wgpu::TextureViewDimension::D2),
+        aspect: if texture.format().has_depth_aspect() {
+            wgpu::TextureAspect::DepthOnly
+        } else {
+            wgpu::TextureAspect::All
+        },
+        base_mip_level: mip_level,
+        mip_level_count: Some(1),
+        ..Default::default()
+    })
 }
 
 pub(super) fn inject_bind_group(
@@ -212,6 +248,7 @@ pub(super) fn inject_bind_group(
         clouds,
         local_shadows,
         temporal,
+        scene_depth,
     } = textures;
     let local_views = local_shadows.map(LocalShadows::views);
     let density_view = density.map(|d| view(&d.texture));
@@ -232,6 +269,7 @@ pub(super) fn inject_bind_group(
                 scattering,
                 density_texture: density_view.as_ref().zip(density.map(|d| &d.sampler)),
                 culling,
+                scene_depth,
                 noise_texture: noise_view.as_ref().zip(noise.map(|n| &n.sampler)),
                 cloud_shadow: clouds
                     .zip(cloud_view.as_ref())

@@ -218,6 +218,10 @@ impl FrameInputs<'_> {
         };
         let rays = shadow_tap_rays(froxels.view_from_clip, world_from_view);
         let mut shadow_taps = shadow_taps(jitter, taps, config.shadow_reversed_z, rays);
+        shadow_taps.camera_depth_terms = crate::uniforms::frustum::depth_terms(
+            "FrameInputs.clip_from_view",
+            self.clip_from_view,
+        )?;
         if !config.temporal {
             // Without a history every froxel takes the taps of one that has none.
             shadow_taps.count = shadow_taps.fresh;

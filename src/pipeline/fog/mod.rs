@@ -278,6 +278,8 @@ impl VolumetricFog {
         });
         let local_shadows = LocalShadows::new(device, config)?;
         let fused = temporal.as_ref().filter(|_| config.fused_temporal());
+        // No scene depth yet: the placeholder (its taps all count until one is set).
+        let scene_depth = groups::scene_depth_view(culling.as_ref(), &esm_texture);
         let inject_groups = [0, 1].map(|p| {
             let (output, temporal) = inject_output(&scattering_view, fused, culling.as_ref(), p);
             inject_bind_group(
@@ -293,6 +295,7 @@ impl VolumetricFog {
                     clouds: clouds.as_ref(),
                     local_shadows: local_shadows.as_ref(),
                     temporal,
+                    scene_depth: Some(&scene_depth),
                 },
             )
         });

@@ -109,17 +109,7 @@ impl VolumetricFog {
             }));
         };
         check_scene_depth(texture, mip_level)?;
-        let depth_view = texture.create_view(&wgpu::TextureViewDescriptor {
-            dimension: Some(wgpu::TextureViewDimension::D2),
-            aspect: if texture.format().has_depth_aspect() {
-                wgpu::TextureAspect::DepthOnly
-            } else {
-                wgpu::TextureAspect::All
-            },
-            base_mip_level: mip_level,
-            mip_level_count: Some(1),
-            ..Default::default()
-        });
+        let depth_view = super::groups::depth_view(texture, mip_level);
         let groups = [0, 1].map(|p| {
             culling.pass.bind_group(
                 device,
@@ -131,6 +121,8 @@ impl VolumetricFog {
         });
         culling.depth = Some((texture.clone(), mip_level, groups));
         culling.all_live = false;
+        // Inject's shadow taps read it too (the compare filter).
+        self.rebuild_inject_groups(device);
         Ok(())
     }
 

@@ -245,6 +245,7 @@ pub fn grid_floor(scene: &TruthScene, options: &VolfogOptions) -> Result<GridFlo
                 noise_texture: None,
                 clouds: None,
                 local_shadows: None,
+                scene_depth: None,
             },
             id,
         )

@@ -89,6 +89,7 @@ fn mirror_errors(
                 noise_texture: None,
                 clouds: None,
                 local_shadows: None,
+                scene_depth: None,
             };
             let mut worst = 0.0f32;
             for z in 0..size.z {

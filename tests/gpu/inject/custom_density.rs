@@ -314,6 +314,7 @@ fn the_custom_density_matches_the_cpu_mirror() {
         noise_texture: None,
         clouds: None,
         local_shadows: None,
+        scene_depth: None,
     };
     let custom = CustomMedium {
         density: &gaussian,

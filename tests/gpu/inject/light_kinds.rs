@@ -140,6 +140,7 @@ fn squared_spot_cones_and_directional_lights_match_the_cpu_mirror() {
         noise_texture: None,
         clouds: None,
         local_shadows: None,
+        scene_depth: None,
     };
     let size = config.volume_size;
     let froxel = |i: usize| {

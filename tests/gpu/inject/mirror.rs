@@ -89,6 +89,7 @@ fn inject_matches_cpu_mirror_for_a_full_scene() {
             noise_texture: None,
             clouds: None,
             local_shadows: None,
+            scene_depth: None,
         };
         let size = config.volume_size;
         let mut worst = 0.0f32;
@@ -184,6 +185,7 @@ fn density_texture_variant_matches_cpu_mirror() {
         noise_texture: None,
         clouds: None,
         local_shadows: None,
+        scene_depth: None,
     };
     let s = config.volume_size;
     let (mut worst, mut lo, mut hi) = (0.0f32, f32::MAX, 0.0f32);

@@ -454,6 +454,7 @@ pub(super) fn cpu_volume(
             point_maps: &shadows.point,
             cookies,
         }),
+        scene_depth: None,
     };
     let size = config.volume_size;
     let mut out = vec![Vec4::ZERO; (size.x * size.y * size.z) as usize];
