@@ -148,7 +148,7 @@ pub fn add_custom_module(
     }
     let custom_error = |message: String| CodegenError::CustomModule {
         file: module.file.clone(),
-        message,
+        message: at_original_positions(&message, module),
         signature: hook.signature.to_string(),
     };
     if let Err(e) = composer.add_composable_module(ComposableModuleDescriptor {
@@ -190,6 +190,159 @@ pub fn add_custom_module(
             message: naga_message(&message),
         }),
     }
+}
+
+/// A module path and a name (an item, or the name a module is used by).
+type Import = (String, String);
+
+/// What a module imports, as naga_oil substitutes it: (module path, item) for
+/// `#import a::b::{x, y}` and `#import a::b::x` (the item used as `x`), and (module
+/// path, the name it is used by) for `#import a::b` and `#import a::b as c` (used as
+/// `b::x`, `c::x`).
+fn imports(source: &str) -> (Vec<Import>, Vec<Import>) {
+    let (mut items, mut modules) = (Vec::new(), Vec::new());
+    for line in source.lines() {
+        let Some(rest) = line.trim().strip_prefix("#import") else {
+            continue;
+        };
+        let rest = rest.trim();
+        if let Some((path, list)) = rest.split_once('{') {
+            let path = path.trim().trim_end_matches("::").to_string();
+            for item in list.trim_end_matches('}').split(',') {
+                let item = item.split(" as ").next().unwrap_or("").trim();
+                if !item.is_empty() {
+                    items.push((path.clone(), item.to_string()));
+                }
+            }
+        } else if let Some((path, alias)) = rest.split_once(" as ") {
+            modules.push((path.trim().to_string(), alias.trim().to_string()));
+        } else if let Some((module, last)) = rest.rsplit_once("::") {
+            // An item, or a module used by its last segment: both are substituted.
+            items.push((module.to_string(), last.to_string()));
+            modules.push((rest.to_string(), last.to_string()));
+        }
+    }
+    (items, modules)
+}
+
+/// `line` cut into segments as naga_oil parses it: (the segment's start and end in the
+/// line, in chars; the text naga_oil has there), imported names replaced by their
+/// decorated names (`Composer::decorated_name`).
+fn decorated_segments(line: &str, source: &str) -> Vec<(usize, usize, String)> {
+    let (items, modules) = imports(source);
+    let chars: Vec<char> = line.chars().collect();
+    let ident = |c: char| c.is_alphanumeric() || c == '_';
+    let mut out = Vec::new();
+    let mut i = 0;
+    while i < chars.len() {
+        if !ident(chars[i]) || (i > 0 && ident(chars[i - 1])) {
+            out.push((i, i + 1, chars[i].to_string()));
+            i += 1;
+            continue;
+        }
+        let mut end = i;
+        while end < chars.len() && ident(chars[end]) {
+            end += 1;
+        }
+        let word: String = chars[i..end].iter().collect();
+        let after: String = chars[end..].iter().collect();
+        let before: String = chars[..i].iter().collect();
+        let qualified = before.ends_with("::") || before.ends_with('.');
+        // `alias::item` of a module import.
+        if let Some((module, _)) = modules.iter().find(|(_, alias)| *alias == word)
+            && let Some(rest) = after.strip_prefix("::")
+        {
+            let item: String = rest.chars().take_while(|c| ident(*c)).collect();
+            if !item.is_empty() {
+                let stop = end + 2 + item.chars().count();
+                out.push((i, stop, Composer::decorated_name(Some(module), &item)));
+                i = stop;
+                continue;
+            }
+        }
+        match items.iter().find(|(_, item)| *item == word) {
+            Some((module, item)) if !qualified => {
+                out.push((i, end, Composer::decorated_name(Some(module), item)));
+            }
+            _ => out.push((i, end, word)),
+        }
+        i = end;
+    }
+    out
+}
+
+/// The 1-based column in `line` of 1-based column `column` of the line as naga_oil
+/// parses it ([`decorated_segments`]).
+fn original_column(line: &str, source: &str, column: usize) -> usize {
+    let mut at = 0;
+    for (start, end, text) in decorated_segments(line, source) {
+        let len = text.chars().count();
+        if column - 1 < at + len {
+            return (start + (column - 1 - at)).min(end - 1) + 1;
+        }
+        at += len;
+    }
+    line.chars().count() + 1
+}
+
+/// naga_oil's rendered message with its position in the user's module as the user
+/// wrote it: naga_oil counts the column in the line with imported names replaced by
+/// their decorated names, and shows the line with them qualified
+/// (`volfog::types::FogSample`); the `file:line:column` header, the source line and
+/// the carets under it are put back on the user's text.
+fn at_original_positions(rendered: &str, module: &CustomModule) -> String {
+    let original: Vec<&str> = module.source.lines().collect();
+    let header = format!("┌─ {}:", module.file);
+    let mut at: Option<(usize, usize)> = None; // (line, column) in the user's text
+    let mut out: Vec<String> = Vec::new();
+    for line in rendered.lines() {
+        if let Some(start) = line.find(&header) {
+            let position = &line[start + header.len()..];
+            let parsed = position.split_once(':').and_then(|(l, c)| {
+                Some((
+                    l.trim().parse::<usize>().ok()?,
+                    c.trim().parse::<usize>().ok()?,
+                ))
+            });
+            match parsed {
+                Some((l, c)) if l >= 1 && c >= 1 && l <= original.len() => {
+                    let column = original_column(original[l - 1], &module.source, c);
+                    out.push(format!(
+                        "{}{}:{l}:{column}",
+                        &line[..start + "┌─ ".len()],
+                        module.file
+                    ));
+                    at = Some((l, column));
+                }
+                _ => out.push(line.to_string()),
+            }
+            continue;
+        }
+        if let Some((l, column)) = at {
+            let marker = format!("{l} │ ");
+            if let Some(start) = line.find(&marker) {
+                out.push(format!(
+                    "{}{}",
+                    &line[..start + marker.len()],
+                    original[l - 1]
+                ));
+                continue;
+            }
+            if let Some(bar) = line.find("│ ")
+                && line[bar..].contains('^')
+            {
+                let (head, tail) = line.split_at(bar + "│ ".len());
+                out.push(format!(
+                    "{head}{}{}",
+                    " ".repeat(column - 1),
+                    tail.trim_start()
+                ));
+                continue;
+            }
+        }
+        out.push(line.to_string());
+    }
+    out.join("\n")
 }
 
 /// The gist of naga_oil's rendered message: its first line and its notes, without the
@@ -263,6 +416,34 @@ mod tests {
             m.naga_oil_source(),
             "// density\n#import volfog::types::{FogSample, FogCustomParams}\n\nfn f() {}\n#import volfog::types::FogSample\n"
         );
+    }
+
+    #[test]
+    fn positions_are_moved_back_to_the_users_text() {
+        let line = "    return FogSample(vec3<f32>(1.0), oops, vec3<f32>(0.0));";
+        let module = CustomModule::new(
+            "bad.wgsl",
+            format!(
+                "#import volfog::types::{{FogSample, FogCustomParams}}\nfn f() -> FogSample {{\n{line}\n}}\n"
+            ),
+        );
+        // As naga_oil renders it: the column in the line with the decorated name, the
+        // line shown with the qualified one.
+        let decorated = Composer::decorated_name(Some("volfog::types"), "FogSample");
+        let col = line.replace("FogSample", &decorated).find("oops").unwrap() + 1;
+        let shown = line.replace("FogSample", "volfog::types::FogSample");
+        let rendered = format!(
+            "error: no definition in scope for identifier: `oops`\n  ┌─ bad.wgsl:3:{col}\n  │\n\
+             3 │ {shown}\n  │ {}^^^^ unknown identifier\n",
+            " ".repeat(col - 1)
+        );
+        let fixed = at_original_positions(&rendered, &module);
+        let want = line.find("oops").unwrap() + 1;
+        assert!(fixed.contains(&format!("┌─ bad.wgsl:3:{want}")), "{fixed}");
+        assert!(fixed.contains(&format!("3 │ {line}")), "{fixed}");
+        let caret = fixed.lines().find(|l| l.contains('^')).unwrap();
+        let start = caret.find('│').unwrap() + '│'.len_utf8() + 1;
+        assert_eq!(caret.find('^'), Some(start + want - 1), "{fixed}");
     }
 
     #[test]

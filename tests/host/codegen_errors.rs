@@ -272,6 +272,22 @@ fn custom_density_errors_name_the_users_file_and_the_signature() {
     );
     assert!(text.contains(CUSTOM_DENSITY.signature), "{text}");
 
+    // An error after an imported name on the same line: the column is the user's
+    // (naga_oil counts it in the line with the name decorated), and so is the line shown.
+    let line = "    return FogSample(vec3<f32>(1.0), oops, vec3<f32>(0.0));";
+    let err = compose(
+        "decorated.wgsl",
+        &format!(
+            "{header}fn volfog_custom_density(world: vec3<f32>, time: f32, params: FogCustomParams) -> FogSample {{\n{line}\n}}\n"
+        ),
+    )
+    .unwrap_err();
+    eprintln!("{err}");
+    let text = err.to_string();
+    // `oops` starts at the 38th character of the line.
+    assert!(text.contains("decorated.wgsl:3:38"), "{text}");
+    assert!(text.contains(line), "the user's line in {text}");
+
     // The wrong return type, found where the function returns.
     let err = compose(
         "scalar.wgsl",
