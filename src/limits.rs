@@ -171,6 +171,13 @@ pub const LIGHTS: Range<u32> = Range::new(0, MAX_LIGHTS, "lights");
 /// Transient lights a frame may hold: the scan evaluates each of them at every live
 /// froxel (they are not culled per block as inject culls its lights).
 pub const MAX_TRANSIENT_LIGHTS: u32 = 16;
+
+/// Most area lights a fog holds (`FogConfig::max_area_lights`): each is integrated
+/// over 16 (rectangle) or 32 (disk) cells at every froxel its range reaches.
+pub const MAX_AREA_LIGHTS: u32 = 16;
+
+/// `FogConfig::max_area_lights`: 0 (no area-light variant) to [`MAX_AREA_LIGHTS`].
+pub const AREA_LIGHTS: Range<u32> = Range::new(0, MAX_AREA_LIGHTS, "area lights");
 /// Capacity of the transient light buffer (`FogConfig::max_transient_lights`; 0 builds
 /// no transient scan).
 pub const TRANSIENT_LIGHTS: Range<u32> = Range::new(0, MAX_TRANSIENT_LIGHTS, "transient lights");

@@ -178,6 +178,9 @@ pub struct InjectOptions {
     /// (`VOLFOG_INJECT_CUSTOM_DENSITY`; composed with the user's module, see
     /// `FogConfig::custom_density`).
     pub custom_density: bool,
+    /// Rectangle and disk emitters added to the lights (`VOLFOG_INJECT_AREA_LIGHTS`,
+    /// binding 33; see `volfog::area_lights`).
+    pub area_lights: bool,
 }
 
 impl Default for InjectOptions {
@@ -196,6 +199,7 @@ impl Default for InjectOptions {
             noise_octaves: manifest::INJECT_NOISE_OCTAVES.default,
             temporal: false,
             custom_density: false,
+            area_lights: false,
         }
     }
 }
@@ -235,6 +239,9 @@ impl InjectOptions {
         }
         if self.custom_density {
             d.push(manifest::CUSTOM_DENSITY.define.to_string());
+        }
+        if self.area_lights {
+            d.push("VOLFOG_INJECT_AREA_LIGHTS".to_string());
         }
         d.extend(cull_defines(self.depth_cull));
         if self.noise_octaves != manifest::INJECT_NOISE_OCTAVES.default {

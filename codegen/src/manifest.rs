@@ -296,6 +296,7 @@ pub const MODULES: &[ModuleSource] = &[
     module!("bindings"),
     module!("density"),
     module!("lights"),
+    module!("area_lights"),
     module!("esm"),
     module!("fog_volume"),
     module!("water"),
@@ -407,6 +408,9 @@ pub const PASSES: &[PassSource] = &[
                     "VOLFOG_INJECT_NOISE_TEXTURE",
                     "VOLFOG_INJECT_TEMPORAL",
                 ],
+                // The area lights (binding 33), prebuilt alone; the runtime composes
+                // them with the other defines it needs.
+                &["VOLFOG_INJECT_AREA_LIGHTS"],
             ]),
         ],
         values: &[INJECT_NOISE_OCTAVES],

@@ -56,6 +56,8 @@
 //      bound as unfilterable float: shadow taps are moved in front of its opaque
 //      surface when ShadowTaps.use_scene_depth is 1 (VOLFOG_INJECT_SHADOW_COMPARE with
 //      VOLFOG_FROXEL_CULL only; bind a 1 x 1 texture where there is none)
+//  33  storage, read: array<AreaLight>, every element (range 0: unused slot)
+//      (VOLFOG_INJECT_AREA_LIGHTS only; culled per block as the point lights)
 // Lights and local volumes are culled per workgroup: those whose range or extent touches
 // the block's bounding sphere are gathered in workgroup memory (at most 64 lights; when
 // more than 64 local volumes touch a block, every volume is evaluated), so distant ones
@@ -113,6 +115,8 @@
 //                                   medium before the local volumes blend, its albedo
 //                                   mixed in by extinction
 //                                   (volfog::density::medium_with_sample)
+//   VOLFOG_INJECT_AREA_LIGHTS       rectangle and disk emitters (binding 33) added to
+//                                   the lights (volfog::area_lights)
 //   VOLFOG_INJECT_LOCAL_SHADOWS     point and spot lights with a projection
 //                                   (FogLight.projection) pass their shadow (in the
 //                                   atlas, or their own depth maps under
@@ -157,6 +161,10 @@
 #import volfog::clouds::cloud_shadow
 #endif
 #import volfog::lights::{light_touches_sphere, fog_light_inscatter, sun_inscatter, sun_inscatter_two_color, ambient_inscatter, FOG_LIGHT_DIRECTIONAL}
+#ifdef VOLFOG_INJECT_AREA_LIGHTS
+#import volfog::types::AreaLight
+#import volfog::area_lights::{area_light_touches_sphere, area_light_inscatter}
+#endif
 #ifdef VOLFOG_INJECT_LOCAL_SHADOWS
 #import volfog::types::LightProjection
 #ifdef VOLFOG_INJECT_SHADOW_COMPARE
@@ -203,6 +211,11 @@
 #ifdef VOLFOG_INJECT_SHADOW_COMPARE
 @group(0) @binding(32) var scene_depth: texture_2d<f32>;
 #endif
+#endif
+#ifdef VOLFOG_INJECT_AREA_LIGHTS
+@group(0) @binding(33) var<storage, read> area_lights: array<AreaLight>;
+var<workgroup> tile_areas: array<u32, 64>;
+var<workgroup> tile_area_count: atomic<u32>;
 #endif
 #ifdef VOLFOG_INJECT_CUSTOM_DENSITY
 @group(0) @binding(31) var<uniform> custom_params: FogCustomParams;
@@ -486,6 +499,11 @@ fn froxel_scattering(id: vec3<u32>, tile_light_count: u32, tile_volume_count: u3
         }
         light += inscatter;
     }
+#ifdef VOLFOG_INJECT_AREA_LIGHTS
+    for (var i = 0u; i < min(atomicLoad(&tile_area_count), TILE_LIGHTS); i++) {
+        light += area_light_inscatter(area_lights[tile_areas[i]], fog_medium, through, world, view_dir, fog_medium.phase_g);
+    }
+#endif
 #ifdef VOLFOG_INJECT_LOCAL_SHADOWS
     let shadowed_count = min(atomicLoad(&tile_shadowed_count), TILE_LIGHTS);
     for (var i = 0u; i < shadowed_count; i++) {
@@ -558,6 +576,9 @@ fn inject(
         tile_sphere = vec4<f32>(center, radius);
         atomicStore(&tile_count, 0u);
         atomicStore(&tile_volume_count, 0u);
+#ifdef VOLFOG_INJECT_AREA_LIGHTS
+        atomicStore(&tile_area_count, 0u);
+#endif
 #ifdef VOLFOG_INJECT_LOCAL_SHADOWS
         atomicStore(&tile_shadowed_count, 0u);
 #endif
@@ -587,6 +608,16 @@ fn inject(
             }
         }
     }
+#ifdef VOLFOG_INJECT_AREA_LIGHTS
+    for (var i = local_index; i < arrayLength(&area_lights); i += 4u * 4u * WORKGROUP_Z) {
+        if area_light_touches_sphere(area_lights[i], sphere.xyz, sphere.w) {
+            let slot = atomicAdd(&tile_area_count, 1u);
+            if slot < TILE_LIGHTS {
+                tile_areas[slot] = i;
+            }
+        }
+    }
+#endif
     let volume_count = min(fog_medium.local_volume_count, arrayLength(&local_volumes));
     for (var i = local_index; i < volume_count; i += 4u * 4u * WORKGROUP_Z) {
         if local_volume_touches_sphere(local_volumes[i], sphere.xyz, sphere.w) {

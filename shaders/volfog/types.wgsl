@@ -203,6 +203,31 @@ struct FogLight {
     flags: u32,
 }
 
+// A rectangle or disk (ellipse) emitter lighting the fog, its in-scattering integrated
+// over its area (volfog::area_lights). One-sided: it emits on the side of
+// cross(axis_x, axis_y). Storage-buffer element, 80-byte stride.
+struct AreaLight {
+    // Centre of the emitter (m).
+    center: vec3<f32>,
+    // AREA_LIGHT_RECT (0) or AREA_LIGHT_DISK (1) of volfog::area_lights.
+    shape: u32,
+    // Unit axis in the emitter's plane: the rectangle's width, the disk's first semi-axis.
+    axis_x: vec3<f32>,
+    // Half the rectangle's width along axis_x, or the disk's radius along it (m), > 0.
+    half_x: f32,
+    // Unit axis in the emitter's plane, orthogonal to axis_x.
+    axis_y: vec3<f32>,
+    // Half the rectangle's height along axis_y, or the disk's radius along it (m), > 0.
+    half_y: f32,
+    // Emitted radiance, W / (m^2 sr) per channel, >= 0.
+    radiance: vec3<f32>,
+    // Contribution to the fog, >= 0.
+    fog_intensity: f32,
+    // Range (m) from the centre: a smooth window saturate(1 - (d / range)^4)^2 as for
+    // point lights; 0 marks an unused slot (it touches nothing).
+    range: f32,
+}
+
 // The projection of a point or spot light (volfog::local_shadow): its exponential
 // shadow map in the local-light ESM atlas and, for a spot light, its cookie.
 struct LightProjection {

@@ -6,6 +6,7 @@
 
 pub mod ambient;
 pub mod apply;
+pub mod area;
 pub mod clouds;
 pub mod density;
 pub mod epipolar;

@@ -65,6 +65,9 @@ pub struct InjectResources<'a> {
     /// The `FogCustomParams` uniform of the custom-density variant (binding 31;
     /// required by it, ignored by the others).
     pub custom_params: Option<&'a wgpu::Buffer>,
+    /// The `array<AreaLight>` storage buffer of the area-light variant (binding 33;
+    /// required by it, ignored by the others; every element is read).
+    pub area_lights: Option<&'a wgpu::Buffer>,
 }
 
 /// The resources of the fused-temporal variant of the inject pass (bindings 22 to 26;
@@ -185,6 +188,9 @@ impl InjectPass {
         }
         if options.custom_density {
             entries.push(uniform_entry(31, c));
+        }
+        if options.area_lights {
+            entries.push(storage_buffer_entry(33, c, true));
         }
         if options.temporal {
             entries.push(texture_entry(22, c, wgpu::TextureViewDimension::D3, true));
@@ -330,6 +336,12 @@ impl InjectPass {
                 )
             })?;
             resources.push((31, params.as_entire_binding()));
+        }
+        if self.options.area_lights {
+            let lights = r
+                .area_lights
+                .ok_or_else(|| missing("InjectResources.area_lights", "the AreaLight buffer"))?;
+            resources.push((33, lights.as_entire_binding()));
         }
         if let Some(sampler) = &self.history_sampler {
             let t = r.temporal.ok_or_else(|| {

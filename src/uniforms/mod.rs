@@ -22,6 +22,7 @@
 //! assert!(Froxels::new(proj, UVec3::new(160, 90, 128), 2.0, 1.0, 4.0).is_err());
 //! ```
 
+mod area;
 mod bytes;
 mod clouds;
 mod custom;
@@ -39,6 +40,7 @@ mod shadow;
 mod sky;
 mod water;
 
+pub use area::{AREA_LIGHT_DISK, AREA_LIGHT_RECT, AreaLight};
 pub use bytes::{to_storage_bytes, to_uniform_bytes};
 pub use clouds::CloudLayer;
 pub use custom::{FogCustomParams, FogSample};

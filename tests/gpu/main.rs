@@ -4,6 +4,7 @@
 //! every test fails with the command that installs Mesa's lavapipe.
 
 mod apply;
+mod area_lights;
 mod clouds;
 mod culling;
 mod epipolar;

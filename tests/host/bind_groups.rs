@@ -228,6 +228,7 @@ fn runtime_layouts_match_the_shaders() {
             local_shadows: v.defines.contains(&"VOLFOG_INJECT_LOCAL_SHADOWS"),
             temporal: v.defines.contains(&"VOLFOG_INJECT_TEMPORAL"),
             shadow_compare: v.defines.contains(&"VOLFOG_INJECT_SHADOW_COMPARE"),
+            area_lights: v.defines.contains(&"VOLFOG_INJECT_AREA_LIGHTS"),
             ..InjectOptions::default()
         };
         checked += check(

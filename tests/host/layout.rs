@@ -315,6 +315,17 @@ fn rust_layouts() -> BTreeMap<&'static str, Measured> {
             camera_depth_terms: Vec4,
             use_scene_depth: u32,
         }),
+        measure!(AreaLight {
+            center: Vec3,
+            shape: u32,
+            axis_x: Vec3,
+            half_x: f32,
+            axis_y: Vec3,
+            half_y: f32,
+            radiance: Vec3,
+            fog_intensity: f32,
+            range: f32,
+        }),
         measure!(TransientLighting {
             camera_position: Vec3,
             count: u32,
@@ -425,6 +436,7 @@ fn uniform_structs_serialize_with_wgsl_member_names() {
         ("ShadowCascades", keys(ShadowCascades::default())),
         ("ShadowTaps", keys(ShadowTaps::default())),
         ("TransientLighting", keys(TransientLighting::default())),
+        ("AreaLight", keys(AreaLight::default())),
         ("Froxels", keys(Froxels::default())),
     ]);
     let wgsl = wgsl_layouts();

@@ -3,8 +3,8 @@
 
 use super::{FogConfig, storage_buffer, uniform_buffer};
 use crate::uniforms::{
-    self, FogCustomParams, FogFrame, FogLight, FogLighting, FogMedium, FogView, Froxels, HeightFog,
-    LocalVolume, ShadowCascades, ShadowTaps, TransientLighting,
+    self, AreaLight, FogCustomParams, FogFrame, FogLight, FogLighting, FogMedium, FogView, Froxels,
+    HeightFog, LocalVolume, ShadowCascades, ShadowTaps, TransientLighting,
 };
 
 /// The uniform and storage buffers of the fog.
@@ -27,6 +27,9 @@ pub(super) struct Buffers {
     pub(super) transient_lights: wgpu::Buffer,
     /// `FogCustomParams` (the custom density).
     pub(super) custom_params: wgpu::Buffer,
+    /// The area lights (`FogConfig::max_area_lights` elements, at least one; unused
+    /// slots have range 0).
+    pub(super) area_lights: wgpu::Buffer,
 }
 
 impl Buffers {
@@ -45,7 +48,12 @@ impl Buffers {
             LocalVolume::default();
             config.max_local_volumes.max(1) as usize
         ]);
+        let area_lights = uniforms::to_storage_bytes(&vec![
+            AreaLight::default();
+            config.max_area_lights.max(1) as usize
+        ]);
         Self {
+            area_lights: storage_buffer(device, "volfog area lights", area_lights.len()),
             froxels: uniform("volfog froxels", Froxels::default().to_bytes()),
             frame: uniform(
                 "volfog frame",
@@ -90,7 +98,7 @@ impl Buffers {
         }
     }
 
-    pub(super) fn all(&self) -> [&wgpu::Buffer; 13] {
+    pub(super) fn all(&self) -> [&wgpu::Buffer; 14] {
         [
             &self.froxels,
             &self.frame,
@@ -105,6 +113,7 @@ impl Buffers {
             &self.transient,
             &self.transient_lights,
             &self.custom_params,
+            &self.area_lights,
         ]
     }
 }

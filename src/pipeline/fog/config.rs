@@ -45,6 +45,11 @@ pub struct FogConfig {
     /// ([`FrameInputs::transient_lights`](super::FrameInputs::transient_lights)), see
     /// [`limits::TRANSIENT_LIGHTS`]; 0 builds no transient scan (the default is 8).
     pub max_transient_lights: u32,
+    /// Capacity of the area light buffer
+    /// ([`FrameInputs::area_lights`](super::FrameInputs::area_lights)), see
+    /// [`limits::AREA_LIGHTS`]; 0 (the default) builds the inject variant without area
+    /// lights, any other value the one with them (`VOLFOG_INJECT_AREA_LIGHTS`).
+    pub max_area_lights: u32,
     /// Capacity of the local volume buffer.
     pub max_local_volumes: u32,
     /// Jitter froxel samples each frame (Halton 2, 3, 5).
@@ -177,6 +182,7 @@ impl Default for FogConfig {
             shadow_reversed_z: esm.reversed_z,
             max_lights: limits::MAX_LIGHTS,
             max_transient_lights: 8,
+            max_area_lights: 0,
             max_local_volumes: 16,
             jitter: inject.jitter,
             temporal: true,
@@ -225,6 +231,7 @@ impl FogConfig {
         limits::LIGHTS.check("FogConfig.max_lights", self.max_lights)?;
         limits::TRANSIENT_LIGHTS
             .check("FogConfig.max_transient_lights", self.max_transient_lights)?;
+        limits::AREA_LIGHTS.check("FogConfig.max_area_lights", self.max_area_lights)?;
         limits::LOCAL_VOLUMES.check("FogConfig.max_local_volumes", self.max_local_volumes)?;
         limits::HISTORY_WEIGHT.check("FogConfig.history_weight", self.history_weight)?;
         limits::NOISE_OCTAVES.check("FogConfig.noise_octaves", self.noise_octaves)?;
@@ -259,6 +266,7 @@ impl FogConfig {
             noise_octaves: self.noise_octaves,
             temporal: self.fused_temporal(),
             custom_density: self.custom_density.is_some(),
+            area_lights: self.max_area_lights > 0,
         }
     }
 

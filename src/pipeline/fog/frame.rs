@@ -4,7 +4,7 @@
 use super::textures::{write_texel, write_unit_density};
 use super::{FogError, FogPass, FrameInputs, VolumetricFog};
 use crate::pipeline::cull::write_all_live;
-use crate::uniforms;
+use crate::uniforms::{self, AreaLight};
 
 impl VolumetricFog {
     /// Checks one frame's inputs and uploads them; starts the next frame.
@@ -52,6 +52,12 @@ impl VolumetricFog {
             );
         }
         self.transient_lights = u.transient.count;
+        if self.config.max_area_lights > 0 {
+            // Every slot is read: the unused ones are cleared (range 0).
+            let mut area = vec![AreaLight::default(); self.config.max_area_lights as usize];
+            area[..inputs.area_lights.len()].copy_from_slice(inputs.area_lights);
+            queue.write_buffer(&b.area_lights, 0, &uniforms::to_storage_bytes(&area));
+        }
         let lights = plan.as_ref().map_or(inputs.lights, |p| p.lights.as_slice());
         if !lights.is_empty() {
             queue.write_buffer(&b.lights, 0, &uniforms::to_storage_bytes(lights));

@@ -280,6 +280,7 @@ pub(super) fn inject_bind_group(
                 temporal,
                 shadow_taps: Some(&buffers.shadow_taps),
                 custom_params: Some(&buffers.custom_params),
+                area_lights: Some(&buffers.area_lights),
             },
         )
         .expect("the fog binds every texture its inject variant reads")

@@ -11,8 +11,9 @@ use crate::cpu::shadow::{shadow_tap_rays, shadow_taps};
 use crate::limits::{InvalidValue, check};
 use crate::options::ShadowFilter;
 use crate::uniforms::{
-    CloudLayer, DirectionalLight, FogCustomParams, FogFrame, FogLight, FogLighting, FogMedium,
-    FogView, Froxels, HeightFog, LocalVolume, ShadowCascades, ShadowTaps, TransientLighting,
+    AreaLight, CloudLayer, DirectionalLight, FogCustomParams, FogFrame, FogLight, FogLighting,
+    FogMedium, FogView, Froxels, HeightFog, LocalVolume, ShadowCascades, ShadowTaps,
+    TransientLighting,
 };
 
 /// The uniforms one frame's inputs become: what
@@ -71,6 +72,11 @@ pub struct FrameInputs<'a> {
     /// (`FogLight::projection` is ignored), without cookies, with the medium's phase and
     /// (with `FogConfig::light_transmittance`) its transmittance.
     pub transient_lights: &'a [FogLight],
+    /// Rectangle and disk emitters (at most `FogConfig::max_area_lights`; none unless
+    /// it is above 0), their in-scattering integrated over their area in inject
+    /// (`volfog::area_lights`), unshadowed, with the medium's phase and (with
+    /// `FogConfig::light_transmittance`) its transmittance to each cell.
+    pub area_lights: &'a [AreaLight],
     /// Local volumes (at most `FogConfig::max_local_volumes`).
     pub local_volumes: &'a [LocalVolume],
     /// Point and spot lights of `lights` with a shadow camera: their shadow maps and
@@ -106,6 +112,7 @@ impl FrameInputs<'_> {
             ambient: AmbientSh::constant(Vec3::new(0.08, 0.1, 0.14)),
             lights: &[],
             transient_lights: &[],
+            area_lights: &[],
             local_volumes: &[],
             shadowed_lights: &[],
             cascades: ShadowCascades::default(),
@@ -165,6 +172,18 @@ impl FrameInputs<'_> {
             ),
         )?;
         for light in self.transient_lights {
+            light.validate()?;
+        }
+        check(
+            self.area_lights.len() <= config.max_area_lights as usize,
+            "FrameInputs.area_lights",
+            self.area_lights.len(),
+            format!(
+                "at most FogConfig.max_area_lights = {} lights",
+                config.max_area_lights
+            ),
+        )?;
+        for light in self.area_lights {
             light.validate()?;
         }
         check(
