@@ -70,6 +70,7 @@ fn scene(name: &str, camera: TruthCamera, medium: TruthMedium, half: f32) -> Tru
         sun: None,
         points: Vec::new(),
         spots: Vec::new(),
+        areas: Vec::new(),
         volumes: Vec::new(),
         occluders: vec![TruthBox {
             min: Vec3::new(-half, -1.0, -half),

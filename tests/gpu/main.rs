@@ -35,6 +35,7 @@ mod temporal;
 mod transient;
 mod transparent;
 mod truth;
+mod truth_area;
 mod truth_volfog;
 mod water;
 

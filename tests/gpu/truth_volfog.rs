@@ -72,6 +72,7 @@ fn scene(name: &str) -> TruthScene {
         sun: None,
         points: vec![],
         spots: vec![],
+        areas: vec![],
         volumes: vec![],
         occluders: vec![ground()],
     }

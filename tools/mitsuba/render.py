@@ -51,6 +51,12 @@ Scene mapping (units are volfog's: metres, +Y up):
   position along the direction. Mitsuba's spot falls off linearly in angle between
   beam_width and cutoff_angle, volfog's as a smoothstep in cosine between the same
   cones: they differ inside that band only.
+  areas: a `rectangle` or `disk` shape (the unit square [-1, 1]^2 or unit disk in the
+  xy plane, normal +z) with an `area` emitter of the given radiance, to_world mapping
+  x to axis_x * half_x, y to axis_y * half_y and z to axis_x x axis_y (the side it
+  emits towards, one-sided), the black BSDF of the occluders and exterior = the global
+  medium. The scenes keep them out of view: hide_emitters shows a camera ray that
+  meets one as black, and it hides the fog behind it.
 - integrator: `volpath` with max_depth 2, which is single scattering: the camera ray
   (depth 0) samples one medium interaction; scattering there makes depth 1 < 2, so the
   emitters are sampled (a shadow ray each, transmittance included); the phase-sampled
@@ -389,7 +395,30 @@ def build(scene, spp, transmittance):
                 "cutoff_angle": float(spot["outer_deg"]),
                 "beam_width": float(spot["inner_deg"]),
             }
+        for i, area in enumerate(scene.get("areas", [])):
+            d[f"area_{i}"] = area_emitter(area, black, fog)
     return mi.load_dict(d), width, height
+
+
+def area_emitter(area, bsdf, fog):
+    """The Mitsuba shape of a TruthArea: a rectangle or disk with an area emitter."""
+    ax, ay = vec3(area["axis_x"]), vec3(area["axis_y"])
+    hx, hy = float(area["half_x"]), float(area["half_y"])
+    if not (hx > 0.0 and hy > 0.0):
+        raise SceneError("an area light needs half_x > 0 and half_y > 0")
+    n = [ax[1] * ay[2] - ax[2] * ay[1], ax[2] * ay[0] - ax[0] * ay[2], ax[0] * ay[1] - ax[1] * ay[0]]
+    c = vec3(area["center"])
+    m = [[ax[r] * hx, ay[r] * hy, n[r], c[r]] for r in range(3)] + [[0.0, 0.0, 0.0, 1.0]]
+    shape = {"rectangle": "rectangle", "disk": "disk"}.get(area["shape"])
+    if shape is None:
+        raise SceneError(f"unknown area light shape {area['shape']}")
+    return {
+        "type": shape,
+        "to_world": mi.ScalarTransform4f(m),
+        "bsdf": bsdf,
+        "exterior": fog,
+        "emitter": {"type": "area", "radiance": rgb(area["radiance"])},
+    }
 
 
 class TransmittanceIntegrator(mi.SamplingIntegrator):

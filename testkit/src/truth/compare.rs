@@ -259,6 +259,7 @@ mod tests {
             }),
             points: vec![],
             spots: vec![],
+            areas: vec![],
             volumes: vec![],
             // A wall covering the left half of the view at 20 m, and a wide one at 40 m.
             occluders: vec![

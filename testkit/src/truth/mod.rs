@@ -2,6 +2,7 @@
 //! ([`scene::TruthScene`]), the scenes themselves ([`scenes`]) and Mitsuba 3's
 //! `volpath` integrator in single scattering as the reference renderer ([`mitsuba`]).
 
+pub mod area;
 pub mod compare;
 pub mod floor;
 pub mod mitsuba;

@@ -9,6 +9,10 @@
 //! - a point or spot light's `color` is its radiant intensity (W / sr per channel):
 //!   Mitsuba's `point` and `spot` emitters with `intensity = color`.
 //!
+//! - an area light's `radiance` is the radiance (W / (m^2 sr) per channel) its front
+//!   face emits: Mitsuba's `rectangle` or `disk` shape with an `area` emitter of that
+//!   `radiance` (one-sided, towards `axis_x x axis_y`).
+//!
 //! In-scattered radiance is `sigma_s * color * phase * transmittance` in both.
 
 use glam::Vec3;
@@ -31,6 +35,10 @@ pub struct TruthScene {
     pub points: Vec<TruthPoint>,
     /// Spot lights.
     pub spots: Vec<TruthSpot>,
+    /// Area lights (left out of the JSON when there are none, so the scenes without
+    /// them keep their cached renders).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub areas: Vec<TruthArea>,
     /// Local volumes added to the medium.
     pub volumes: Vec<TruthVolume>,
     /// Opaque occluders that absorb all light (reflectance 0): the ground, walls. Every
@@ -109,6 +117,36 @@ pub struct TruthSpot {
     pub inner_deg: f32,
     /// Half-angle beyond which the light is off (degrees).
     pub outer_deg: f32,
+}
+
+/// The shape of an area light.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum TruthAreaShape {
+    /// A rectangle of `2 half_x` by `2 half_y` (Mitsuba's `rectangle`).
+    Rectangle,
+    /// A disk of radius `half_x` (= `half_y`; Mitsuba's `disk`).
+    Disk,
+}
+
+/// A one-sided Lambertian area light in the plane of `axis_x` and `axis_y`, emitting
+/// `radiance` towards `axis_x x axis_y`.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct TruthArea {
+    /// Rectangle or disk.
+    pub shape: TruthAreaShape,
+    /// Centre (m).
+    pub center: Vec3,
+    /// Unit axis of the emitter's plane.
+    pub axis_x: Vec3,
+    /// Unit axis of the emitter's plane, orthogonal to `axis_x`.
+    pub axis_y: Vec3,
+    /// Half extent along `axis_x`, or the disk's radius (m).
+    pub half_x: f32,
+    /// Half extent along `axis_y`, or the disk's radius (m).
+    pub half_y: f32,
+    /// Emitted radiance (W / (m^2 sr) per channel).
+    pub radiance: Vec3,
 }
 
 /// The shape of a local volume.

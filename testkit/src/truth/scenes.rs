@@ -15,8 +15,8 @@
 use glam::{Vec2, Vec3};
 
 use super::scene::{
-    TruthBox, TruthCamera, TruthMedium, TruthPoint, TruthScene, TruthShape, TruthSpot, TruthSun,
-    TruthVolume,
+    TruthArea, TruthAreaShape, TruthBox, TruthCamera, TruthMedium, TruthPoint, TruthScene,
+    TruthShape, TruthSpot, TruthSun, TruthVolume,
 };
 
 /// Image width of the scenes (pixels).
@@ -226,6 +226,7 @@ fn scene(name: &str, camera: TruthCamera, medium: TruthMedium) -> TruthScene {
         sun: None,
         points: Vec::new(),
         spots: Vec::new(),
+        areas: Vec::new(),
         volumes: Vec::new(),
         occluders: Vec::new(),
     }
@@ -263,6 +264,7 @@ fn finish(mut scene: TruthScene) -> TruthScene {
     }
     let lights = scene.points.iter().map(|p| p.position);
     let lights = lights.chain(scene.spots.iter().map(|s| s.position));
+    let lights = lights.chain(scene.areas.iter().map(|a| a.center));
     let walls = scene.occluders[1..].iter().flat_map(|b| [b.min, b.max]);
     for p in lights.chain(walls) {
         lo = lo.min(Vec2::new(p.x, p.z));
@@ -458,6 +460,50 @@ pub fn local_volumes() -> TruthScene {
     finish(s)
 }
 
+/// A 2 m x 1 m panel facing down, 6 m up and 12 m ahead, 2 m above the eye and out of
+/// view (its radiance 100 W / (m^2 sr), warm: 200 W / sr straight down, as
+/// point_light's lamp), in homogeneous fog 0.05 / m, g 0.3; no sun.
+pub fn rect_light() -> TruthScene {
+    let mut s = scene(
+        "rect_light",
+        camera(Vec3::new(0.0, 4.0, 0.0), 0.0, 25.0, 80.0),
+        medium(0.05, 0.0, 0.3, 20.0),
+    );
+    s.areas = vec![TruthArea {
+        shape: TruthAreaShape::Rectangle,
+        center: Vec3::new(1.5, 6.0, -12.0),
+        axis_x: Vec3::X,
+        axis_y: Vec3::Z,
+        half_x: 1.0,
+        half_y: 0.5,
+        radiance: Vec3::new(100.0, 85.0, 65.0),
+    }];
+    finish(s)
+}
+
+/// A disk of radius 0.8 m, 5 m up and 10 m ahead to the left, out of view, facing down
+/// and a little towards the camera and the right (radiance 150 W / (m^2 sr) in blue,
+/// cool), in homogeneous fog 0.05 / m, g 0.3; no sun.
+pub fn disk_light() -> TruthScene {
+    let mut s = scene(
+        "disk_light",
+        camera(Vec3::new(0.0, 4.0, 0.0), 0.0, 25.0, 80.0),
+        medium(0.05, 0.0, 0.3, 20.0),
+    );
+    let normal = Vec3::new(0.3, -1.0, 0.2).normalize();
+    let (axis_x, axis_y) = normal.any_orthonormal_pair();
+    s.areas = vec![TruthArea {
+        shape: TruthAreaShape::Disk,
+        center: Vec3::new(-2.0, 5.0, -10.0),
+        axis_x,
+        axis_y,
+        half_x: 0.8,
+        half_y: 0.8,
+        radiance: Vec3::new(90.0, 110.0, 150.0),
+    }];
+    finish(s)
+}
+
 /// All scenes, in the order above.
 pub fn all() -> Vec<TruthScene> {
     vec![
@@ -472,13 +518,19 @@ pub fn all() -> Vec<TruthScene> {
     ]
 }
 
+/// The area-light scenes, in the order above. Apart from [`all`]: the grid floor
+/// (`truth::floor`) does not light the fog with area lights.
+pub fn area_lights() -> Vec<TruthScene> {
+    vec![rect_light(), disk_light()]
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
 
     #[test]
     fn scenes_meet_the_geometry_contract() {
-        for scene in all() {
+        for scene in all().into_iter().chain(area_lights()) {
             check(&scene).unwrap();
             assert!(scene.medium.top > scene.camera.position.y, "{}", scene.name);
         }

@@ -275,6 +275,7 @@ pub fn fog_config(scene: &TruthScene, options: &VolfogOptions) -> Result<FogConf
         near: scene.camera.near,
         far: scene.camera.far,
         max_lights: options.config.max_lights.max(lights),
+        max_area_lights: options.config.max_area_lights.max(scene.areas.len() as u32),
         max_local_volumes: options
             .config
             .max_local_volumes
@@ -401,6 +402,7 @@ pub fn render(
     let sun = fog_sun(scene);
     sun.validate()?;
     let lights = fog_lights(scene, &view);
+    let area_lights = super::area::fog_area_lights(scene, &view);
     let volumes = fog_volumes(scene)?;
     let shadow = scene
         .sun
@@ -422,6 +424,7 @@ pub fn render(
         sun,
         ambient: AmbientSh::constant(Vec3::ZERO),
         lights: &lights,
+        area_lights: &area_lights,
         local_volumes: &volumes,
         shadowed_lights: lamps.as_ref().map_or(&[], |l| l.shadowed.as_slice()),
         cascades: shadow.as_ref().map_or(ShadowCascades::default(), |s| s.0),
