@@ -45,6 +45,11 @@ fn main() -> Result {
     )?;
     run(
         &gpu,
+        "docs/wgpu.md: a ceiling panel and a round lamp",
+        area_lights,
+    )?;
+    run(
+        &gpu,
         "docs/wgpu.md: a house that clears the fog, and smoke inside it",
         cleared_house,
     )?;
@@ -271,6 +276,38 @@ fn short_lived_lights(gpu: &Gpu) -> Result {
     let mut encoder = device.create_command_encoder(&Default::default());
     fog.encode(&mut encoder)?;              // no trace of the flash: it never reached the history
     fog.record_apply(&mut encoder, &apply, &lit_color_view, &depth_group)?;
+    queue.submit([encoder.finish()]);
+
+    Ok(())
+}
+
+/// The wgpu guide's area lights: a rectangle and a disk emitter lighting the fog.
+#[rustfmt::skip]
+fn area_lights(gpu: &Gpu) -> Result {
+    let (device, queue) = (gpu.device.clone(), gpu.queue.clone());
+    let (view_from_world, clip_from_view, time) = camera();
+
+    use volfog::pipeline::{FogConfig, FrameInputs, VolumetricFog};
+    use volfog::uniforms::AreaLight;
+
+    let mut fog = VolumetricFog::new(&device, &FogConfig {
+        max_area_lights: 4,                 // builds inject@...INJECT_AREA_LIGHTS
+        ..FogConfig::default()
+    })?;
+    // a 2 m x 1 m ceiling panel facing down (it emits towards axis_x x axis_y = -Y) and a
+    // round lamp of radius 0.3 m facing +X; radiance in W / (m^2 sr) per channel
+    let lights = [
+        AreaLight::rect(glam::Vec3::new(0.0, 3.0, -6.0), glam::Vec3::X, glam::Vec3::Z, 1.0, 0.5,
+            glam::Vec3::new(60.0, 55.0, 45.0), 15.0),
+        AreaLight::disk(glam::Vec3::new(-3.0, 2.0, -4.0), glam::Vec3::X, 0.3,
+            glam::Vec3::splat(200.0), 10.0),
+    ];
+    fog.prepare(&queue, &FrameInputs {
+        area_lights: &lights,
+        ..FrameInputs::new(view_from_world, clip_from_view, time)
+    })?;
+    let mut encoder = device.create_command_encoder(&Default::default());
+    fog.encode(&mut encoder)?;
     queue.submit([encoder.finish()]);
 
     Ok(())

@@ -29,7 +29,9 @@
 //!    downsample + ESM blur + inject of the baseline with `ShadowFilter::Esm`, the
 //!    order rotating from frame to frame;
 //! 9. short-lived lights (`FrameInputs::transient_lights`): the baseline's scan without
-//!    transient lights, with one and with eight, the order rotating from frame to frame.
+//!    transient lights, with one and with eight, the order rotating from frame to frame;
+//! 10. area lights (`FrameInputs::area_lights`): the baseline's inject with room for
+//!     them, with four point, rectangle or disk lights added, the order rotating.
 //!
 //! The baseline takes `FogConfig::default`'s shadow filter (the compare filter), so its
 //! ESM passes do not run; the ESM rows come from the ESM fog of 8.
@@ -44,6 +46,7 @@
 //! reported by its median over the measured frames with min, max, p10 and p90, printed
 //! as a table and written as JSON. The targets are printed, never asserted.
 
+mod area_lights;
 pub mod cost;
 mod floors;
 mod local_lights;
@@ -69,6 +72,8 @@ use volfog_testkit::{Gpu, GpuError};
 use raymarch::{RAYMARCH_STEPS, Raymarch, RaymarchOptions, ShaderError};
 use scene::Scene;
 
+pub use area_lights::AreaLightCost;
+use area_lights::*;
 use floors::*;
 use local_lights::*;
 use passes::*;

@@ -332,6 +332,8 @@ pub struct Report {
     pub cost: super::cost::CostModel,
     /// The scan with short-lived lights.
     pub transient_lights: TransientCost,
+    /// Area lights against point lights in inject.
+    pub area_lights: AreaLightCost,
     /// Wall-clock time of the whole run, seconds.
     pub wall_seconds: f64,
 }
@@ -486,6 +488,7 @@ pub(super) fn summarize(
     };
     let cost = super::cost::model(config, &super::cost::sizes(config, live_fraction), &median)?;
     let transient_lights = transient_cost(&median, &per_frame);
+    let area_lights = area_light_cost(&median);
     let mib = to_mib(memory_bytes);
     Ok(Report {
         adapter: gpu.info.name.clone(),
@@ -523,6 +526,7 @@ pub(super) fn summarize(
         },
         cost,
         transient_lights,
+        area_lights,
         wall_seconds: start.elapsed().as_secs_f64(),
     })
 }

@@ -303,6 +303,7 @@ pub fn table(report: &Report) -> String {
         );
     }
     transient_table(&mut out, &report.transient_lights);
+    area_light_table(&mut out, &report.area_lights);
     let m = &report.memory;
     let _ = writeln!(
         out,

@@ -63,6 +63,10 @@ pub(super) const SERIES: &[(&str, &str)] = &[
     ("scan_transient_0", "scan, no transient light ~"),
     ("scan_transient_1", "scan, 1 transient light ~"),
     ("scan_transient_8", "scan, 8 transient lights ~"),
+    ("inject_area_none", "inject, area variant, no area light"),
+    ("inject_area_points", "inject, 4 point lights added"),
+    ("inject_area_rects", "inject, 4 rectangle lights"),
+    ("inject_area_disks", "inject, 4 disk lights"),
 ];
 
 /// The target ratios taken frame by frame: (key, numerator series, denominator
@@ -225,6 +229,8 @@ pub(super) struct Workloads {
     pub(super) local_lights: LocalLights,
     /// The baseline's scan with 0, 1 and 8 transient lights.
     pub(super) transient: TransientLights,
+    /// The baseline's inject with four point, rectangle or disk lights added.
+    pub(super) area_lights: AreaLights,
 }
 
 impl Workloads {
@@ -329,6 +335,7 @@ impl Workloads {
         let reference_group = reference.bind_group(&gpu.device, &esm_view, &main.depth);
         let local_lights = LocalLights::new(gpu, &config, &scene, &shadow_map, &depth)?;
         let transient = TransientLights::new(gpu, &config, &scene, cascades, &shadow_map, &depth)?;
+        let area_lights = AreaLights::new(gpu, &config, &scene, cascades, &shadow_map, &depth)?;
         Ok(Self {
             config,
             scene,
@@ -353,6 +360,7 @@ impl Workloads {
             shafts,
             local_lights,
             transient,
+            area_lights,
         })
     }
 
@@ -435,6 +443,7 @@ impl Workloads {
         let shafts = self.shafts.frame(gpu, timer, with_raymarch)?;
         let local = self.local_lights.frame(gpu, &inputs, f)?;
         let transient = self.transient.frame(gpu, &inputs, f)?;
+        let area = self.area_lights.frame(gpu, &inputs, f)?;
         let index = self.main.fog.frame_index().expect("prepared above");
         let uniforms = inputs.uniforms(&self.config, index)?;
         self.reference.upload(
@@ -543,6 +552,10 @@ impl Workloads {
             ("scan_transient_0", transient.none),
             ("scan_transient_1", transient.one),
             ("scan_transient_8", transient.eight),
+            ("inject_area_none", area.none),
+            ("inject_area_points", area.points),
+            ("inject_area_rects", area.rects),
+            ("inject_area_disks", area.disks),
         ]);
         samples.extend(raymarch_t.map(|r| ("raymarch_1080p", r)));
         samples.extend(shafts.reference.map(|r| ("epipolar_reference_1080p", r)));

@@ -378,6 +378,24 @@ fn quick_bench_writes_every_ratio_memory_and_adapter() {
             "{key}: {t}"
         );
     }
+
+    // Area lights: inject with four point, rectangle and disk lights added, and the
+    // cost per light of each kind against a point light.
+    let a = &report["area_lights"];
+    let get = |key: &str| a[key].as_f64().unwrap_or(f64::NAN);
+    assert!(get("inject_ms") > 0.0, "{a}");
+    for key in [
+        "point_ms",
+        "rect_ms",
+        "disk_ms",
+        "rect_vs_point",
+        "disk_vs_point",
+    ] {
+        assert!(get(key).is_finite(), "{key}: {a}");
+    }
+    // One unwarmed frame times each configuration once: the differences are left to
+    // the full run (a timed test would fail on a busy machine).
+    eprintln!("area lights, one frame: {a}");
 }
 
 /// Depth-buffer values of a ground plane y = 0 (1 for the sky), row by row from the top.
