@@ -14,6 +14,7 @@ mod fog_volume;
 mod forward_snippet;
 mod frustum;
 mod fused_temporal;
+mod guide_example;
 mod height_fog;
 mod height_fog_lit;
 mod hull;
