@@ -103,6 +103,16 @@ pub fn froxel_jitter(frame: u32) -> Vec3 {
     Vec3::new(halton(i, 2), halton(i, 3), halton(i, 5)) - 0.5
 }
 
+/// The jitter of frame `index` for a fog that amortises its injection over two frames
+/// when `checkerboard` is 1 ([`froxel_injected`]): each froxel is injected every other
+/// frame, so the sequence advances every two frames and each froxel still visits all
+/// 16 points. With the frame's own index, the froxels of one parity would see only
+/// every other point of the sequence, and the base-2 Halton digit of those puts all of
+/// one parity's samples in one half of the froxel in x.
+pub fn froxel_jitter_amortised(index: u32, checkerboard: u32) -> Vec3 {
+    froxel_jitter(if checkerboard != 0 { index / 2 } else { index })
+}
+
 /// View-space position of a point inside froxel `id` at `offset` from its centre.
 pub fn froxel_view_position(
     id: glam::UVec3,
@@ -201,4 +211,41 @@ pub fn live_slices_from_depth(
         }
     }
     out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Under checkerboard amortisation a froxel of either parity visits all 16 jitter
+    /// points in 32 frames, and its samples average as the sequence does; with the
+    /// frame's own index a parity would see 8 of them, all in one half in x.
+    #[test]
+    fn amortised_jitter_covers_the_froxel_for_each_parity() {
+        for parity in [UVec3::ZERO, UVec3::X] {
+            let seen = |jitter: fn(u32) -> Vec3| {
+                let mut points: Vec<Vec3> = (0..32)
+                    .filter(|&f| froxel_injected(parity, f, 1))
+                    .map(jitter)
+                    .collect();
+                let mean = points.iter().sum::<Vec3>() / points.len() as f32;
+                points.sort_by(|a, b| a.x.total_cmp(&b.x));
+                points.dedup();
+                (points.len(), mean)
+            };
+            // The 16 points' own mean (Halton points are not balanced at 16 in base 3
+            // and 5): each parity's samples average to it.
+            let all = (0..16).map(froxel_jitter).sum::<Vec3>() / 16.0;
+            let (count, mean) = seen(|f| froxel_jitter_amortised(f, 1));
+            assert_eq!(count, 16, "parity {parity}");
+            assert!(
+                (mean - all).abs().max_element() < 1e-6,
+                "parity {parity}: mean {mean} against {all}"
+            );
+            let (count, mean) = seen(froxel_jitter);
+            assert_eq!(count, 8, "parity {parity}");
+            assert!(mean.x.abs() > 0.2, "parity {parity}: mean {mean}");
+            assert_eq!(froxel_jitter_amortised(7, 0), froxel_jitter(7));
+        }
+    }
 }

@@ -3,7 +3,7 @@
 
 use glam::{Mat4, UVec3, Vec3, Vec4};
 use volfog::cpu::esm::Layer;
-use volfog::cpu::froxel::froxel_jitter;
+use volfog::cpu::froxel::froxel_jitter_amortised;
 use volfog::cpu::shadow::SHADOW_TAP_STEP;
 use volfog::options::ShadowFilter;
 use volfog::pipeline::{
@@ -248,7 +248,7 @@ pub fn expected_uniforms(
             camera_position: world_from_view.transform_point3(Vec3::ZERO),
             time: inputs.time,
             jitter: if config.jitter {
-                froxel_jitter(index)
+                froxel_jitter_amortised(index, u32::from(config.amortize))
             } else {
                 Vec3::ZERO
             },
@@ -302,7 +302,7 @@ fn expected_transient(config: &FogConfig, inputs: &FrameInputs<'_>) -> Transient
 /// froxel with history and 4 taps without (every froxel without temporal blending).
 fn expected_shadow_taps(config: &FogConfig, index: u32, inputs: &FrameInputs<'_>) -> ShadowTaps {
     let jitter = if config.jitter {
-        froxel_jitter(index)
+        froxel_jitter_amortised(index, u32::from(config.amortize))
     } else {
         Vec3::ZERO
     };

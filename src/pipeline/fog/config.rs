@@ -88,6 +88,9 @@ pub struct FogConfig {
     /// Amortise injection over two frames: inject one colour of a 3D checkerboard per
     /// frame and let temporal reprojection fill the other (needs `temporal`). Halves
     /// the injection; lighting changes then take about twice as many frames to settle.
+    /// The jitter then advances every two frames
+    /// ([`froxel_jitter_amortised`](crate::cpu::froxel::froxel_jitter_amortised)), so
+    /// the froxels of each colour still visit all 16 sample points.
     pub amortize: bool,
     /// Read the density noise from a tileable texture baked once on the GPU
     /// (`VOLFOG_INJECT_NOISE_TEXTURE`, see `volfog::noise`; on by default, as Wronski's

@@ -6,7 +6,7 @@ use glam::{Mat4, Vec3};
 use super::config::FogConfig;
 use super::local_shadows::ShadowedLight;
 use crate::cpu::ambient::AmbientSh;
-use crate::cpu::froxel::froxel_jitter;
+use crate::cpu::froxel::froxel_jitter_amortised;
 use crate::cpu::shadow::{shadow_tap_rays, shadow_taps};
 use crate::limits::{InvalidValue, check};
 use crate::options::ShadowFilter;
@@ -227,7 +227,7 @@ impl FrameInputs<'_> {
         self.validate(config)?;
         let world_from_view = self.view_from_world.inverse();
         let jitter = if config.jitter {
-            froxel_jitter(index)
+            froxel_jitter_amortised(index, u32::from(config.amortize))
         } else {
             Vec3::ZERO
         };
