@@ -90,7 +90,10 @@ pub(crate) fn gl_resources(report: &Value) -> BTreeMap<(String, String), (u64, O
 }
 
 /// What the manifest says GL will report for an entry point's bindings.
-pub(crate) fn manifest_resources(entry: &Value, into: &mut BTreeMap<(String, String), (u64, Option<u64>)>) {
+pub(crate) fn manifest_resources(
+    entry: &Value,
+    into: &mut BTreeMap<(String, String), (u64, Option<u64>)>,
+) {
     for b in entry["bindings"].as_array().unwrap() {
         let glsl = &b["glsl"];
         if glsl.is_null() {
