@@ -8,3 +8,4 @@ mod demo;
 mod export;
 mod gpu_cost;
 mod images;
+mod raymarch;
