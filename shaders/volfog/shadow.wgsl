@@ -74,11 +74,11 @@ fn shadow_cascade_compare(
 // screen uv (v down) and view depth `view_depth` in a froxel spanning view depths
 // [near, far] (m) is moved, with every tap of that screen position, into the part of
 // the span in front of the opaque surface the scene depth holds there,
-// near + (view_depth - near) min((surface - near) / (far - near), 1). The fog ends at
-// that surface, and a tap behind it, inside an object, would read the object's own
-// shadow; uniform taps over the froxel stay uniform over its visible part. Where the
-// surface hides all of the froxel at uv the tap is left where it is. `surface_depth`
-// is the camera's depth texture (device depth, any mip level), interpolated bilinearly between texel
+// near + (view_depth - near) clamp((surface - near) / (far - near), 0, 1). The fog
+// ends at that surface, and a tap behind it, inside an object, would read the object's
+// own shadow; uniform taps over the froxel stay uniform over its visible part (at the
+// near face where the surface hides all of it). `surface_depth` is the camera's
+// depth texture (device depth, any mip level), interpolated bilinearly between texel
 // centres: device depth is affine in screen position across a plane, so a plane's
 // depth comes out exact between texels (at a grazing view one texel spans metres of
 // depth); `depth_terms` are the camera projection's depth terms (volfog::frustum).
@@ -99,13 +99,7 @@ fn shadow_tap_visible_depth(
     let top = mix(textureLoad(surface_depth, lo, 0).r, textureLoad(surface_depth, vec2<i32>(hi.x, lo.y), 0).r, f.x);
     let bottom = mix(textureLoad(surface_depth, vec2<i32>(lo.x, hi.y), 0).r, textureLoad(surface_depth, hi, 0).r, f.x);
     let surface = frustum_depth_from_terms(depth_terms, mix(top, bottom, f.y));
-    // Where the surface hides the whole froxel at uv, the tap stays: its near face lies
-    // behind the surface too, in whatever the surface bounds, and the fog there is
-    // seen at other screen positions if at all.
-    if surface <= near {
-        return view_depth;
-    }
-    let visible = min((surface - near) / max(far - near, 1e-6), 1.0);
+    let visible = clamp((surface - near) / max(far - near, 1e-6), 0.0, 1.0);
     return near + (view_depth - near) * visible;
 }
 

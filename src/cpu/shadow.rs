@@ -87,9 +87,8 @@ pub fn shadow_taps(jitter: Vec3, count: u32, sun_reversed_z: bool, rays: [Vec3; 
 /// `view_depth` in a froxel spanning view depths `near..far` (m) is moved into the part
 /// of the span in front of the surface `scene_depth` (device depths, interpolated
 /// bilinearly between texel centres, clamp to edge) holds at uv,
-/// `near + (view_depth - near) min((surface - near) / (far - near), 1)`, the
-/// surface's view depth from the camera's `depth_terms`; where the surface lies in front
-/// of `near` (it hides the whole froxel at uv) the tap stays at `view_depth`.
+/// `near + (view_depth - near) clamp((surface - near) / (far - near), 0, 1)`, the
+/// surface's view depth from the camera's `depth_terms`.
 pub fn shadow_tap_visible_depth(
     scene_depth: &Layer,
     uv: Vec2,
@@ -107,11 +106,7 @@ pub fn shadow_tap_visible_depth(
     let bottom = lerp(scene_depth.at(x, y + 1), scene_depth.at(x + 1, y + 1), f.x);
     let device = lerp(top, bottom, f.y);
     let surface = super::frustum::frustum_depth_from_terms(depth_terms, device);
-    if surface <= near {
-        // The surface hides the whole froxel at uv: the tap stays.
-        return view_depth;
-    }
-    let visible = ((surface - near) / (far - near).max(1e-6)).min(1.0);
+    let visible = ((surface - near) / (far - near).max(1e-6)).clamp(0.0, 1.0);
     near + (view_depth - near) * visible
 }
 
