@@ -178,6 +178,15 @@ pub const MAX_AREA_LIGHTS: u32 = 16;
 
 /// `FogConfig::max_area_lights`: 0 (no area-light variant) to [`MAX_AREA_LIGHTS`].
 pub const AREA_LIGHTS: Range<u32> = Range::new(0, MAX_AREA_LIGHTS, "area lights");
+
+/// Most particles a fog holds (`FogConfig::max_particles`; 48 bytes each, 3 MiB).
+pub const MAX_PARTICLES: u32 = 65_536;
+/// `FogConfig::max_particles`: 0 (no particle variant) to [`MAX_PARTICLES`].
+pub const PARTICLES: Range<u32> = Range::new(0, MAX_PARTICLES, "particles");
+/// `FogParticle::radius` (m).
+pub const PARTICLE_RADIUS: Range<f32> = Range::above(0.0, 1.0e4, "m");
+/// `FogParticle::extinction` at the particle's centre (1/m).
+pub const PARTICLE_EXTINCTION: Range<f32> = Range::new(0.0, 1.0e3, "1/m");
 /// Capacity of the transient light buffer (`FogConfig::max_transient_lights`; 0 builds
 /// no transient scan).
 pub const TRANSIENT_LIGHTS: Range<u32> = Range::new(0, MAX_TRANSIENT_LIGHTS, "transient lights");

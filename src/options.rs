@@ -181,6 +181,9 @@ pub struct InjectOptions {
     /// Rectangle and disk emitters added to the lights (`VOLFOG_INJECT_AREA_LIGHTS`,
     /// binding 33; see `volfog::area_lights`).
     pub area_lights: bool,
+    /// Particles added to the medium (`VOLFOG_INJECT_PARTICLES`, binding 34; see
+    /// `volfog::particles`).
+    pub particles: bool,
 }
 
 impl Default for InjectOptions {
@@ -200,6 +203,7 @@ impl Default for InjectOptions {
             temporal: false,
             custom_density: false,
             area_lights: false,
+            particles: false,
         }
     }
 }
@@ -242,6 +246,9 @@ impl InjectOptions {
         }
         if self.area_lights {
             d.push("VOLFOG_INJECT_AREA_LIGHTS".to_string());
+        }
+        if self.particles {
+            d.push("VOLFOG_INJECT_PARTICLES".to_string());
         }
         d.extend(cull_defines(self.depth_cull));
         if self.noise_octaves != manifest::INJECT_NOISE_OCTAVES.default {

@@ -58,13 +58,19 @@
 //      VOLFOG_FROXEL_CULL only; bind a 1 x 1 texture where there is none)
 //  33  storage, read: array<AreaLight>, every element (range 0: unused slot)
 //      (VOLFOG_INJECT_AREA_LIGHTS only; culled per block as the point lights)
+//  34  storage, read: array<FogParticle>, the first FogMedium.particle_count elements
+//      (VOLFOG_INJECT_PARTICLES only)
 // Lights and local volumes are culled per workgroup: those whose range or extent touches
 // the block's bounding sphere are gathered in workgroup memory (at most 64 lights; when
 // more than 64 local volumes touch a block, every volume is evaluated), so distant ones
 // cost nothing. The local volumes blend into the medium in buffer order
 // (volfog::density::local_volume_blend: add, subtract, multiply, min, max, overwrite):
 // the gathered ones are put back in that order (each finds its rank among them) before
-// any froxel reads them.
+// any froxel reads them. Particles (VOLFOG_INJECT_PARTICLES) are gathered in chunks of
+// one particle per invocation: each chunk's particles that touch the block's sphere are
+// listed in workgroup memory (three lists in turn, one barrier a chunk) and every
+// froxel of the block evaluates the list, so every particle that touches a block is
+// evaluated there, however many they are, and none that does not.
 // Shadows. By default the sun's shadow is read from its filtered ESM (and shadowed
 // point and spot lights' from the local-light ESM atlas). Under
 // VOLFOG_INJECT_SHADOW_COMPARE each light's visibility is the mean of
@@ -117,6 +123,10 @@
 //                                   (volfog::density::medium_with_sample)
 //   VOLFOG_INJECT_AREA_LIGHTS       rectangle and disk emitters (binding 33) added to
 //                                   the lights (volfog::area_lights)
+//   VOLFOG_INJECT_PARTICLES         particles (binding 34, volfog::particles) added to
+//                                   the medium after the local volumes: the medium
+//                                   clamped at 0, then their sum, its albedo mixed in
+//                                   by extinction (volfog::density::medium_with_sample)
 //   VOLFOG_INJECT_LOCAL_SHADOWS     point and spot lights with a projection
 //                                   (FogLight.projection) pass their shadow (in the
 //                                   atlas, or their own depth maps under
@@ -164,6 +174,13 @@
 #ifdef VOLFOG_INJECT_AREA_LIGHTS
 #import volfog::types::AreaLight
 #import volfog::area_lights::{area_light_touches_sphere, area_light_inscatter}
+#endif
+#ifdef VOLFOG_INJECT_PARTICLES
+#import volfog::types::FogParticle
+#import volfog::particles::{particle_sample, particle_touches_sphere, particle_total}
+#ifndef VOLFOG_INJECT_CUSTOM_DENSITY
+#import volfog::density::{medium_with_sample, albedo_with_sample}
+#endif
 #endif
 #ifdef VOLFOG_INJECT_LOCAL_SHADOWS
 #import volfog::types::LightProjection
@@ -216,6 +233,18 @@
 @group(0) @binding(33) var<storage, read> area_lights: array<AreaLight>;
 var<workgroup> tile_areas: array<u32, 64>;
 var<workgroup> tile_area_count: atomic<u32>;
+#endif
+#ifdef VOLFOG_INJECT_PARTICLES
+@group(0) @binding(34) var<storage, read> particles: array<FogParticle>;
+// Three lists of gathered particle indices used in turn, chunk k in list k % 3 (at
+// 128 (k % 3)), so one barrier a chunk separates a list's reads from its next writes
+// (see gather_particles).
+var<workgroup> tile_particles: array<u32, 384>;
+var<workgroup> tile_particle_count: array<atomic<u32>, 3>;
+// The particles' sum at this invocation's froxel sample: rgb emission, a extinction
+// (particle_medium) and albedo times extinction (particle_albedo).
+var<private> particle_medium: vec4<f32>;
+var<private> particle_albedo: vec3<f32>;
 #endif
 #ifdef VOLFOG_INJECT_CUSTOM_DENSITY
 @group(0) @binding(31) var<uniform> custom_params: FogCustomParams;
@@ -453,6 +482,13 @@ fn froxel_scattering(id: vec3<u32>, tile_light_count: u32, tile_volume_count: u3
         medium = local_volume_blend(medium, local_volumes[v], world);
 #endif
     }
+#ifdef VOLFOG_INJECT_PARTICLES
+    // The particles' sum (gathered in inject) added to the medium clamped at 0.
+    let particle_sum = particle_total(particle_medium, particle_albedo);
+    medium = max(medium, vec4<f32>(0.0));
+    let blended_albedo = albedo_with_sample(medium, albedo, particle_sum);
+    medium = medium_with_sample(medium, particle_sum);
+#endif
     let emission = max(medium.rgb, vec3<f32>(0.0));
     let sigma_t = max(medium.a, 0.0);
     if sigma_t <= 0.0 {
@@ -526,7 +562,11 @@ fn froxel_scattering(id: vec3<u32>, tile_light_count: u32, tile_volume_count: u3
 #endif
 
     // Clamped to the largest finite rgba16float value so no texel becomes Inf.
+#ifdef VOLFOG_INJECT_PARTICLES
+    let sigma_s = blended_albedo * sigma_t;
+#else
     let sigma_s = albedo * sigma_t;
+#endif
     return min(vec4<f32>(sigma_s * light + emission, sigma_t), vec4<f32>(HALF_MAX));
 }
 
@@ -538,6 +578,62 @@ fn light_path_transmittance(light: FogLight, world: vec3<f32>) -> f32 {
     }
     return medium_segment_transmittance(fog_medium, world, light.position);
 }
+
+#ifdef VOLFOG_INJECT_PARTICLES
+// The froxel this invocation injects (the one froxel_scattering is called for, in
+// range or not): first + local, or under the checkerboard the one of its pair of
+// slices that froxel_injected picks this frame.
+fn invocation_froxel(first: vec3<u32>, local: vec3<u32>) -> vec3<u32> {
+#ifdef VOLFOG_INJECT_CHECKERBOARD
+    let pair = first + vec3<u32>(local.xy, 2u * local.z);
+    if pair.z + 1u < froxels.size.z && !froxel_injected(pair, frame.index, 1u) {
+        return pair + vec3<u32>(0u, 0u, 1u);
+    }
+    return pair;
+#else
+    return first + local;
+#endif
+}
+
+// Sums every particle that touches the block's bounding sphere at this invocation's
+// froxel sample into particle_medium and particle_albedo. Called by every invocation
+// of the workgroup (its barriers are in uniform control flow): chunk k tests the
+// particles k * n .. k * n + n - 1 (n invocations, one each), lists those that touch
+// the block in tile_particles[k % 3], and after the chunk's barrier every invocation
+// evaluates the list; the list of chunk k + 2 is cleared then (its last reads were in
+// chunk k - 1, before this barrier; its writes come after the next one).
+fn gather_particles(first: vec3<u32>, local: vec3<u32>, local_index: u32, sphere: vec4<f32>) {
+#ifdef VOLFOG_INJECT_JITTER
+    let offset = frame.jitter;
+#else
+    let offset = vec3<f32>(0.0);
+#endif
+    let world = world_of(invocation_froxel(first, local), offset);
+    particle_medium = vec4<f32>(0.0);
+    particle_albedo = vec3<f32>(0.0);
+    let invocations = 4u * 4u * WORKGROUP_Z;
+    let count = min(fog_medium.particle_count, arrayLength(&particles));
+    var list = 0u;
+    for (var start = 0u; start < count; start += invocations) {
+        let i = start + local_index;
+        if i < count && particle_touches_sphere(particles[i], sphere.xyz, sphere.w) {
+            // At most one slot per invocation: the list never overflows.
+            tile_particles[128u * list + atomicAdd(&tile_particle_count[list], 1u)] = i;
+        }
+        workgroupBarrier();
+        if local_index == 0u {
+            atomicStore(&tile_particle_count[(list + 2u) % 3u], 0u);
+        }
+        let listed = min(atomicLoad(&tile_particle_count[list]), invocations);
+        for (var j = 0u; j < listed; j++) {
+            let s = particle_sample(particles[tile_particles[128u * list + j]], world);
+            particle_medium += vec4<f32>(s.emission, s.extinction);
+            particle_albedo += s.albedo * s.extinction;
+        }
+        list = (list + 1u) % 3u;
+    }
+}
+#endif
 
 @compute @workgroup_size(4, 4, WORKGROUP_Z)
 fn inject(
@@ -578,6 +674,11 @@ fn inject(
         atomicStore(&tile_volume_count, 0u);
 #ifdef VOLFOG_INJECT_AREA_LIGHTS
         atomicStore(&tile_area_count, 0u);
+#endif
+#ifdef VOLFOG_INJECT_PARTICLES
+        for (var k = 0u; k < 3u; k++) {
+            atomicStore(&tile_particle_count[k], 0u);
+        }
 #endif
 #ifdef VOLFOG_INJECT_LOCAL_SHADOWS
         atomicStore(&tile_shadowed_count, 0u);
@@ -647,6 +748,9 @@ fn inject(
         tile_volumes[rank] = gathered_volume;
     }
     workgroupBarrier();
+#ifdef VOLFOG_INJECT_PARTICLES
+    gather_particles(first, local, local_index, sphere);
+#endif
 
 #ifdef VOLFOG_INJECT_CHECKERBOARD
     let pair = first + vec3<u32>(local.xy, 2u * local.z);

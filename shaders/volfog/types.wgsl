@@ -106,6 +106,9 @@ struct FogMedium {
     // world * texture_scale + texture_offset (VOLFOG_INJECT_DENSITY_TEXTURE only);
     // 0: it does not (the texture then only shapes the textured local volumes).
     textured: u32,
+    // Number of particles in inject's particle buffer (VOLFOG_INJECT_PARTICLES only;
+    // set by the runtime, 0 elsewhere).
+    particle_count: u32,
 }
 
 // A local fog volume blended into the medium (added, subtracted, multiplied, min,
@@ -226,6 +229,26 @@ struct AreaLight {
     // Range (m) from the centre: a smooth window saturate(1 - (d / range)^4)^2 as for
     // point lights; 0 marks an unused slot (it touches nothing).
     range: f32,
+}
+
+// A particle in the fog (volfog::particles): a sphere of smoke, dust or glowing gas
+// whose extinction and emission fall off from its centre, added to the medium after
+// the local volumes. Storage-buffer element, 48-byte stride.
+struct FogParticle {
+    // Centre (m, world space), finite.
+    position: vec3<f32>,
+    // Radius R (m), > 0: nothing beyond it.
+    radius: f32,
+    // Single-scattering albedo per channel, [0, 1].
+    albedo: vec3<f32>,
+    // Extinction at the centre (1/m), [0, 1e3].
+    extinction: f32,
+    // Radiance emitted per metre of path at the centre (linear rgb, W / (sr m^3)),
+    // [0, 1e6]; it follows the extinction's profile.
+    emission: vec3<f32>,
+    // Falloff f in [0, 1]: the profile (1 - f) + f (1 - r^2 / R^2)^2 for r < R, from a
+    // uniform sphere (0) to a smooth one (1) whose density and slope vanish at R.
+    falloff: f32,
 }
 
 // The projection of a point or spot light (volfog::local_shadow): its exponential

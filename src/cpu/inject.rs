@@ -20,12 +20,13 @@ use super::local_shadow::{
     ColorLayer, light_cookie, local_shadow_compare, local_shadow_visibility,
 };
 use super::noise::{noise_animated, noise_animated_texture};
+use super::particles::medium_with_particles;
 use super::shadow::{shadow_cascade_compare, shadow_tap_visible_depth, shadow_tap_world};
 pub use super::texture::DensityTexture;
 use crate::options::InjectOptions;
 use crate::uniforms::{
-    CloudLayer, FogCustomParams, FogFrame, FogLight, FogLighting, FogMedium, FogSample, Froxels,
-    LightProjection, LocalVolume, ShadowCascades, ShadowTaps,
+    CloudLayer, FogCustomParams, FogFrame, FogLight, FogLighting, FogMedium, FogParticle,
+    FogSample, Froxels, LightProjection, LocalVolume, ShadowCascades, ShadowTaps,
 };
 
 /// The custom density of the `VOLFOG_INJECT_CUSTOM_DENSITY` variant on the CPU: the Rust
@@ -225,6 +226,20 @@ pub fn froxel_scattering_with(
     taps: u32,
     custom: Option<CustomMedium<'_>>,
 ) -> Vec4 {
+    froxel_scattering_particles(inputs, id, taps, custom, &[])
+}
+
+/// [`froxel_scattering_with`] of the particle variant (`VOLFOG_INJECT_PARTICLES`):
+/// the first `FogMedium::particle_count` of `particles` are added to the medium after
+/// the local volumes ([`medium_with_particles`]); with `particle_count` 0 (or no
+/// particles) it is [`froxel_scattering_with`].
+pub fn froxel_scattering_particles(
+    inputs: &InjectInputs<'_>,
+    id: UVec3,
+    taps: u32,
+    custom: Option<CustomMedium<'_>>,
+    particles: &[FogParticle],
+) -> Vec4 {
     let (world, view_depth) =
         froxel_world_position(inputs.froxels, inputs.frame, id, inputs.options.jitter);
     let view_dir = (world - inputs.frame.camera_position).normalize();
@@ -265,6 +280,10 @@ pub fn froxel_scattering_with(
             ),
             _ => local_volume_blend(medium, v, world),
         };
+    }
+    let in_use = &particles[..particles.len().min(m.particle_count as usize)];
+    if inputs.options.particles && !in_use.is_empty() {
+        (medium, albedo) = medium_with_particles(medium, albedo, in_use, world);
     }
     let emission = medium.truncate().max(Vec3::ZERO);
     let sigma_t = medium.w.max(0.0);

@@ -68,6 +68,10 @@ pub struct InjectResources<'a> {
     /// The `array<AreaLight>` storage buffer of the area-light variant (binding 33;
     /// required by it, ignored by the others; every element is read).
     pub area_lights: Option<&'a wgpu::Buffer>,
+    /// The `array<FogParticle>` storage buffer of the particle variant (binding 34;
+    /// required by it, ignored by the others; its first `FogMedium::particle_count`
+    /// elements are read).
+    pub particles: Option<&'a wgpu::Buffer>,
 }
 
 /// The resources of the fused-temporal variant of the inject pass (bindings 22 to 26;
@@ -191,6 +195,9 @@ impl InjectPass {
         }
         if options.area_lights {
             entries.push(storage_buffer_entry(33, c, true));
+        }
+        if options.particles {
+            entries.push(storage_buffer_entry(34, c, true));
         }
         if options.temporal {
             entries.push(texture_entry(22, c, wgpu::TextureViewDimension::D3, true));
@@ -342,6 +349,12 @@ impl InjectPass {
                 .area_lights
                 .ok_or_else(|| missing("InjectResources.area_lights", "the AreaLight buffer"))?;
             resources.push((33, lights.as_entire_binding()));
+        }
+        if self.options.particles {
+            let particles = r
+                .particles
+                .ok_or_else(|| missing("InjectResources.particles", "the FogParticle buffer"))?;
+            resources.push((34, particles.as_entire_binding()));
         }
         if let Some(sampler) = &self.history_sampler {
             let t = r.temporal.ok_or_else(|| {

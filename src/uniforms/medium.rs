@@ -54,6 +54,10 @@ pub struct FogMedium {
     /// local volumes made with [`LocalVolume::with_density_texture`].
     #[cfg_attr(feature = "serde", serde(default = "textured"))]
     pub textured: u32,
+    /// Number of particles in use (set by the runtime from
+    /// [`FrameInputs::particles`](crate::pipeline::FrameInputs::particles)).
+    #[cfg_attr(feature = "serde", serde(default))]
+    pub particle_count: u32,
 }
 
 #[cfg(feature = "serde")]
@@ -84,6 +88,7 @@ impl Default for FogMedium {
             emission: Vec3::ZERO,
             top_height: limits::NO_TOP,
             textured: 1,
+            particle_count: 0,
         }
     }
 }

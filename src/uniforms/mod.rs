@@ -36,6 +36,7 @@ mod hull;
 mod lighting;
 mod local_shadow;
 mod medium;
+mod particles;
 mod shadow;
 mod sky;
 mod water;
@@ -60,6 +61,7 @@ pub use local_shadow::{
     LightProjection, LocalShadowSource,
 };
 pub use medium::{BlendMode, FogMedium, LocalVolume, VolumeShape};
+pub use particles::FogParticle;
 pub use shadow::{ShadowCascades, ShadowTaps};
 pub use sky::SkyAtmosphere;
 pub use water::Water;

@@ -259,6 +259,7 @@ pub fn expected_uniforms(
         },
         medium: FogMedium {
             local_volume_count: inputs.local_volumes.len() as u32,
+            particle_count: inputs.particles.len() as u32,
             ..inputs.medium
         },
         lighting: FogLighting {

@@ -24,6 +24,7 @@ mod lightning;
 mod local_shadow;
 mod msaa;
 mod noise;
+mod particles;
 mod phase;
 mod pipeline;
 mod properties;

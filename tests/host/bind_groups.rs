@@ -229,6 +229,7 @@ fn runtime_layouts_match_the_shaders() {
             temporal: v.defines.contains(&"VOLFOG_INJECT_TEMPORAL"),
             shadow_compare: v.defines.contains(&"VOLFOG_INJECT_SHADOW_COMPARE"),
             area_lights: v.defines.contains(&"VOLFOG_INJECT_AREA_LIGHTS"),
+            particles: v.defines.contains(&"VOLFOG_INJECT_PARTICLES"),
             ..InjectOptions::default()
         };
         checked += check(

@@ -236,6 +236,7 @@ fn rust_layouts() -> BTreeMap<&'static str, Measured> {
             emission: Vec3,
             top_height: f32,
             textured: u32,
+            particle_count: u32,
         }),
         measure!(LocalVolume {
             local_from_world: Mat4,
@@ -314,6 +315,14 @@ fn rust_layouts() -> BTreeMap<&'static str, Measured> {
             sun_reversed_z: u32,
             camera_depth_terms: Vec4,
             use_scene_depth: u32,
+        }),
+        measure!(FogParticle {
+            position: Vec3,
+            radius: f32,
+            albedo: Vec3,
+            extinction: f32,
+            emission: Vec3,
+            falloff: f32,
         }),
         measure!(AreaLight {
             center: Vec3,
@@ -437,6 +446,7 @@ fn uniform_structs_serialize_with_wgsl_member_names() {
         ("ShadowTaps", keys(ShadowTaps::default())),
         ("TransientLighting", keys(TransientLighting::default())),
         ("AreaLight", keys(AreaLight::default())),
+        ("FogParticle", keys(FogParticle::default())),
         ("Froxels", keys(Froxels::default())),
     ]);
     let wgsl = wgsl_layouts();

@@ -297,6 +297,7 @@ pub const MODULES: &[ModuleSource] = &[
     module!("density"),
     module!("lights"),
     module!("area_lights"),
+    module!("particles"),
     module!("esm"),
     module!("fog_volume"),
     module!("water"),

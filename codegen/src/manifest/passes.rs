@@ -104,6 +104,9 @@ pub const PASSES: &[PassSource] = &[
                 // The area lights (binding 33), prebuilt alone; the runtime composes
                 // them with the other defines it needs.
                 &["VOLFOG_INJECT_AREA_LIGHTS"],
+                // The particles (binding 34), prebuilt alone; the runtime composes
+                // them with the other defines it needs.
+                &["VOLFOG_INJECT_PARTICLES"],
             ]),
         ],
         values: &[INJECT_NOISE_OCTAVES],

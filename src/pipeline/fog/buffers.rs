@@ -3,8 +3,8 @@
 
 use super::{FogConfig, storage_buffer, uniform_buffer};
 use crate::uniforms::{
-    self, AreaLight, FogCustomParams, FogFrame, FogLight, FogLighting, FogMedium, FogView, Froxels,
-    HeightFog, LocalVolume, ShadowCascades, ShadowTaps, TransientLighting,
+    self, AreaLight, FogCustomParams, FogFrame, FogLight, FogLighting, FogMedium, FogParticle,
+    FogView, Froxels, HeightFog, LocalVolume, ShadowCascades, ShadowTaps, TransientLighting,
 };
 
 /// The uniform and storage buffers of the fog.
@@ -30,6 +30,9 @@ pub(super) struct Buffers {
     /// The area lights (`FogConfig::max_area_lights` elements, at least one; unused
     /// slots have range 0).
     pub(super) area_lights: wgpu::Buffer,
+    /// The particles (`FogConfig::max_particles` elements, at least one; the first
+    /// `FogMedium::particle_count` are read).
+    pub(super) particles: wgpu::Buffer,
 }
 
 impl Buffers {
@@ -52,7 +55,12 @@ impl Buffers {
             AreaLight::default();
             config.max_area_lights.max(1) as usize
         ]);
+        let particles = uniforms::to_storage_bytes(&vec![
+            FogParticle::default();
+            config.max_particles.max(1) as usize
+        ]);
         Self {
+            particles: storage_buffer(device, "volfog particles", particles.len()),
             area_lights: storage_buffer(device, "volfog area lights", area_lights.len()),
             froxels: uniform("volfog froxels", Froxels::default().to_bytes()),
             frame: uniform(
@@ -98,7 +106,7 @@ impl Buffers {
         }
     }
 
-    pub(super) fn all(&self) -> [&wgpu::Buffer; 14] {
+    pub(super) fn all(&self) -> [&wgpu::Buffer; 15] {
         [
             &self.froxels,
             &self.frame,
@@ -114,6 +122,7 @@ impl Buffers {
             &self.transient_lights,
             &self.custom_params,
             &self.area_lights,
+            &self.particles,
         ]
     }
 }

@@ -50,6 +50,12 @@ pub struct FogConfig {
     /// [`limits::AREA_LIGHTS`]; 0 (the default) builds the inject variant without area
     /// lights, any other value the one with them (`VOLFOG_INJECT_AREA_LIGHTS`).
     pub max_area_lights: u32,
+    /// Capacity of the particle buffer
+    /// ([`FrameInputs::particles`](super::FrameInputs::particles)), see
+    /// [`limits::PARTICLES`]; 0 (the default) builds the inject variant without
+    /// particles (no cost), any other value the one with them
+    /// (`VOLFOG_INJECT_PARTICLES`).
+    pub max_particles: u32,
     /// Capacity of the local volume buffer.
     pub max_local_volumes: u32,
     /// Jitter froxel samples each frame (Halton 2, 3, 5).
@@ -186,6 +192,7 @@ impl Default for FogConfig {
             max_lights: limits::MAX_LIGHTS,
             max_transient_lights: 8,
             max_area_lights: 0,
+            max_particles: 0,
             max_local_volumes: 16,
             jitter: inject.jitter,
             temporal: true,
@@ -235,6 +242,7 @@ impl FogConfig {
         limits::TRANSIENT_LIGHTS
             .check("FogConfig.max_transient_lights", self.max_transient_lights)?;
         limits::AREA_LIGHTS.check("FogConfig.max_area_lights", self.max_area_lights)?;
+        limits::PARTICLES.check("FogConfig.max_particles", self.max_particles)?;
         limits::LOCAL_VOLUMES.check("FogConfig.max_local_volumes", self.max_local_volumes)?;
         limits::HISTORY_WEIGHT.check("FogConfig.history_weight", self.history_weight)?;
         limits::NOISE_OCTAVES.check("FogConfig.noise_octaves", self.noise_octaves)?;
@@ -270,6 +278,7 @@ impl FogConfig {
             temporal: self.fused_temporal(),
             custom_density: self.custom_density.is_some(),
             area_lights: self.max_area_lights > 0,
+            particles: self.max_particles > 0,
         }
     }
 

@@ -58,6 +58,14 @@ impl VolumetricFog {
             area[..inputs.area_lights.len()].copy_from_slice(inputs.area_lights);
             queue.write_buffer(&b.area_lights, 0, &uniforms::to_storage_bytes(&area));
         }
+        if !inputs.particles.is_empty() {
+            // FogMedium.particle_count bounds what inject reads.
+            queue.write_buffer(
+                &b.particles,
+                0,
+                &uniforms::to_storage_bytes(inputs.particles),
+            );
+        }
         let lights = plan.as_ref().map_or(inputs.lights, |p| p.lights.as_slice());
         if !lights.is_empty() {
             queue.write_buffer(&b.lights, 0, &uniforms::to_storage_bytes(lights));

@@ -281,6 +281,7 @@ pub(super) fn inject_bind_group(
                 shadow_taps: Some(&buffers.shadow_taps),
                 custom_params: Some(&buffers.custom_params),
                 area_lights: Some(&buffers.area_lights),
+                particles: Some(&buffers.particles),
             },
         )
         .expect("the fog binds every texture its inject variant reads")

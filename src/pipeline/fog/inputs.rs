@@ -12,7 +12,7 @@ use crate::limits::{InvalidValue, check};
 use crate::options::ShadowFilter;
 use crate::uniforms::{
     AreaLight, CloudLayer, DirectionalLight, FogCustomParams, FogFrame, FogLight, FogLighting,
-    FogMedium, FogView, Froxels, HeightFog, LocalVolume, ShadowCascades, ShadowTaps,
+    FogMedium, FogParticle, FogView, Froxels, HeightFog, LocalVolume, ShadowCascades, ShadowTaps,
     TransientLighting,
 };
 
@@ -77,6 +77,11 @@ pub struct FrameInputs<'a> {
     /// (`volfog::area_lights`), unshadowed, with the medium's phase and (with
     /// `FogConfig::light_transmittance`) its transmittance to each cell.
     pub area_lights: &'a [AreaLight],
+    /// Particles added to the medium (at most `FogConfig::max_particles`; none unless
+    /// it is above 0): spheres of smoke, dust or glowing gas the application's
+    /// particle system writes each frame (`volfog::particles`), added after the local
+    /// volumes, lit and shadowed as the medium.
+    pub particles: &'a [FogParticle],
     /// Local volumes (at most `FogConfig::max_local_volumes`).
     pub local_volumes: &'a [LocalVolume],
     /// Point and spot lights of `lights` with a shadow camera: their shadow maps and
@@ -113,6 +118,7 @@ impl FrameInputs<'_> {
             lights: &[],
             transient_lights: &[],
             area_lights: &[],
+            particles: &[],
             local_volumes: &[],
             shadowed_lights: &[],
             cascades: ShadowCascades::default(),
@@ -185,6 +191,18 @@ impl FrameInputs<'_> {
         )?;
         for light in self.area_lights {
             light.validate()?;
+        }
+        check(
+            self.particles.len() <= config.max_particles as usize,
+            "FrameInputs.particles",
+            self.particles.len(),
+            format!(
+                "at most FogConfig.max_particles = {} particles",
+                config.max_particles
+            ),
+        )?;
+        for particle in self.particles {
+            particle.validate()?;
         }
         check(
             self.local_volumes.len() <= config.max_local_volumes as usize,
@@ -269,6 +287,7 @@ impl FrameInputs<'_> {
             frame,
             medium: FogMedium {
                 local_volume_count: self.local_volumes.len() as u32,
+                particle_count: self.particles.len() as u32,
                 ..self.medium
             },
             lighting: FogLighting {
