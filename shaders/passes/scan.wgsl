@@ -12,6 +12,10 @@
 //      live slice (nothing reads them; they stay defined)
 //   4  uniform FogMedium; 5 uniform TransientLighting; 6 storage, read: array<FogLight>,
 //      the transient lights (4-6 VOLFOG_SCAN_TRANSIENT_LIGHTS only)
+//   VOLFOG_SCAN_RESAMPLE only: 5 uniform TransientLighting, the eye's camera position and
+//      column rays (its light count is not read); 7 sampler, filtering, clamp to edge;
+//      8 uniform FogFrame and 9 uniform Froxels of the shared volume (binding 1, sampled
+//      trilinearly: bound as filterable float)
 // Defines: VOLFOG_SCAN_WRONSKI_STEP (see volfog::scan), VOLFOG_FROXEL_CULL,
 //   VOLFOG_SCAN_TRANSIENT_LIGHTS: short-lived lights (a muzzle flash, a lightning
 //   strike) light this frame only. Each live froxel's scattering gains
@@ -21,6 +25,11 @@
 //   integrated. The scan reads the stabilised volume and writes the integrated one, so
 //   the history never holds these lights, and every froxel gets them whether or not
 //   inject amortises its work over two frames.
+//   VOLFOG_SCAN_RESAMPLE (not with VOLFOG_SCAN_TRANSIENT_LIGHTS): stereo fog. Binding 1
+//   is the volume shared by both eyes (volfog::stereo), aligned with the centre eye of
+//   bindings 8 and 9, and bindings 0 and 2 are this eye's: each froxel's scattering is
+//   read trilinearly at the world position of its centre (no jitter) on this eye's
+//   column ray, stereo_resample_uvw, then integrated along this eye's ray as above.
 // Reference: Wronski 2014, "Solving scattering equation" (RayMarchThroughVolume).
 
 #import volfog::types::Froxels
@@ -30,6 +39,11 @@
 #import volfog::types::{FogMedium, FogLight, TransientLighting}
 #import volfog::froxel::{ndc_from_uv, slice_depth}
 #import volfog::lights::{light_touches_sphere, fog_light_inscatter, fog_light_transmittance}
+#endif
+#ifdef VOLFOG_SCAN_RESAMPLE
+#import volfog::types::{FogFrame, TransientLighting}
+#import volfog::froxel::{ndc_from_uv, slice_depth}
+#import volfog::stereo::{stereo_resample_column, stereo_resample_uvw}
 #endif
 
 @group(0) @binding(0) var<uniform> froxels: Froxels;
@@ -73,6 +87,12 @@ fn with_transient_lights(read: vec4<f32>, world: vec3<f32>, view_dir: vec3<f32>)
         vec4<f32>(65504.0));
 }
 #endif
+#ifdef VOLFOG_SCAN_RESAMPLE
+@group(0) @binding(5) var<uniform> eye: TransientLighting;
+@group(0) @binding(7) var shared_sampler: sampler;
+@group(0) @binding(8) var<uniform> shared_frame: FogFrame;
+@group(0) @binding(9) var<uniform> shared_froxels: Froxels;
+#endif
 
 @compute @workgroup_size(8, 8, 1)
 fn scan(@builtin(global_invocation_id) id: vec3<u32>) {
@@ -101,6 +121,15 @@ fn scan(@builtin(global_invocation_id) id: vec3<u32>) {
     let view_dir = normalize(ray);
     var middle = slice_depth(0.5 / f32(slices), froxels.near, froxels.far, froxels.curve) - froxels.near;
 #endif
+#ifdef VOLFOG_SCAN_RESAMPLE
+    // The column's world-space ray per metre of this eye's view depth, in the shared
+    // volume's clip space, and the depth of slice 0's centre beyond near, walked like the
+    // boundaries.
+    let ndc = ndc_from_uv(uv);
+    let ray = eye.ray_origin + eye.ray_x * ndc.x + eye.ray_y * ndc.y;
+    let column = stereo_resample_column(eye.camera_position, ray, shared_frame.clip_from_world);
+    var middle = slice_depth(0.5 / f32(slices), froxels.near, froxels.far, froxels.curve) - froxels.near;
+#endif
     for (var k = 0u; k < live; k++) {
         let back = front * walk.x + walk.y;
 #ifdef VOLFOG_SCAN_TRANSIENT_LIGHTS
@@ -108,7 +137,13 @@ fn scan(@builtin(global_invocation_id) id: vec3<u32>) {
         let medium = with_transient_lights(textureLoad(scattering, vec3<u32>(id.xy, k), 0), world, view_dir);
         middle = middle * walk.x + walk.y;
 #else
+#ifdef VOLFOG_SCAN_RESAMPLE
+        let uvw = stereo_resample_uvw(column, froxels.near + middle, shared_froxels);
+        let medium = textureSampleLevel(scattering, shared_sampler, uvw, 0.0);
+        middle = middle * walk.x + walk.y;
+#else
         let medium = textureLoad(scattering, vec3<u32>(id.xy, k), 0);
+#endif
 #endif
         acc = scan_step(acc, medium, (back - front) * scale);
         // Clamped to the largest finite rgba16float value so no texel becomes Inf.

@@ -27,6 +27,7 @@ pub mod scan;
 pub mod shadow;
 pub mod sky;
 pub mod soft_particles;
+pub mod stereo;
 pub mod temporal;
 pub mod texture;
 pub mod transient;

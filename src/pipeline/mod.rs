@@ -26,8 +26,8 @@ use std::borrow::Cow;
 
 pub use fog::{
     FogConfig, FogError, FogPass, FrameInputs, FrameUniforms, LocalShadowConfig, LocalShadowStats,
-    PassTimings, SCENE_DEPTH_FORMATS, SHADOW_MAP_FORMATS, ShadowedLight, SharedFog, VOLUME_FORMAT,
-    VolumetricFog, cascade_projection, cascade_splits, check_device,
+    PassTimings, SCENE_DEPTH_FORMATS, SHADOW_MAP_FORMATS, ShadowedLight, SharedFog, StereoFog,
+    VOLUME_FORMAT, VolumetricFog, cascade_projection, cascade_splits, check_device,
 };
 pub use timestamps::{TimestampError, TimestampPairs};
 

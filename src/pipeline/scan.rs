@@ -1,10 +1,12 @@
 //! The scan pass: integrates the scattering volume front to back into the
-//! integrated volume (`shaders/passes/scan.wgsl`), and its variant that adds the frame's
-//! transient lights on the way (`VOLFOG_SCAN_TRANSIENT_LIGHTS`).
+//! integrated volume (`shaders/passes/scan.wgsl`), its variant that adds the frame's
+//! transient lights on the way (`VOLFOG_SCAN_TRANSIENT_LIGHTS`), and stereo fog's scan
+//! of one eye, which reads the volume both eyes share at its own froxels' centres
+//! (`VOLFOG_SCAN_RESAMPLE`, `volfog::stereo`).
 
 use super::{
-    bind_group, bind_group_layout, compute_pipeline, shader_module, storage_buffer_entry,
-    storage_entry, texture_entry, uint_texture_entry, uniform_entry,
+    bind_group, bind_group_layout, compute_pipeline, sampler_entry, shader_module,
+    storage_buffer_entry, storage_entry, texture_entry, uint_texture_entry, uniform_entry,
 };
 use crate::limits::InvalidValue;
 use crate::options::{ScanStep, cull_defines};
@@ -15,6 +17,30 @@ pub const WORKGROUP: u32 = 8;
 
 /// The define of the scan variant that adds the frame's transient lights.
 pub const TRANSIENT_LIGHTS_DEFINE: &str = "VOLFOG_SCAN_TRANSIENT_LIGHTS";
+
+/// The define of stereo fog's scan of one eye over the shared volume.
+pub const RESAMPLE_DEFINE: &str = "VOLFOG_SCAN_RESAMPLE";
+
+/// The defines of stereo fog's scan of one eye for a step, with or without depth
+/// culling.
+pub fn resample_defines(step: ScanStep, cull: bool) -> Vec<String> {
+    let mut defines = scan_defines(step, cull, false);
+    defines.push(RESAMPLE_DEFINE.to_string());
+    defines
+}
+
+/// What the resampling variant reads besides the volumes (bindings 5, 7, 8 and 9).
+#[derive(Debug, Clone, Copy)]
+pub struct ResampleScanResources<'a> {
+    /// The eye's `TransientLighting` uniform: its camera position and column rays.
+    pub eye: &'a wgpu::Buffer,
+    /// A filtering, clamp-to-edge sampler for the shared volume.
+    pub sampler: &'a wgpu::Sampler,
+    /// The shared volume's `FogFrame` uniform (its `clip_from_world`).
+    pub shared_frame: &'a wgpu::Buffer,
+    /// The shared volume's `Froxels` uniform.
+    pub shared_froxels: &'a wgpu::Buffer,
+}
 
 /// The defines of the scan variant for a step, with or without depth culling and the
 /// transient lights.
@@ -43,6 +69,7 @@ pub struct TransientScanResources<'a> {
 pub struct ScanPass {
     cull: bool,
     transient_lights: bool,
+    resample: bool,
     layout: wgpu::BindGroupLayout,
     pipeline: wgpu::ComputePipeline,
 }
@@ -77,9 +104,28 @@ impl ScanPass {
         entries
     }
 
+    /// The bind group layout of the resampling variant: 0 the eye's `Froxels`, 1 the
+    /// shared volume (3D float, filterable), 2 the eye's integrated volume, with depth
+    /// culling 3 the eye's live-slice texture, 5 the eye's `TransientLighting`, 7 a
+    /// filtering sampler, 8 the shared volume's `FogFrame` and 9 its `Froxels`.
+    pub fn resample_layout_entries(cull: bool) -> Vec<wgpu::BindGroupLayoutEntry> {
+        let c = wgpu::ShaderStages::COMPUTE;
+        let mut entries = Self::layout_entries(cull, false);
+        if let wgpu::BindingType::Texture { sample_type, .. } = &mut entries[1].ty {
+            *sample_type = wgpu::TextureSampleType::Float { filterable: true };
+        }
+        entries.extend([
+            uniform_entry(5, c),
+            sampler_entry(7, c, true),
+            uniform_entry(8, c),
+            uniform_entry(9, c),
+        ]);
+        entries
+    }
+
     /// Compiles the pass (`cull`: the depth-culling variant, `VOLFOG_FROXEL_CULL`).
     pub fn new(device: &wgpu::Device, step: ScanStep, cull: bool) -> Result<Self, CodegenError> {
-        Self::build(device, step, cull, false)
+        Self::build(device, step, cull, false, false)
     }
 
     /// Compiles the variant that adds the frame's transient lights
@@ -89,7 +135,17 @@ impl ScanPass {
         step: ScanStep,
         cull: bool,
     ) -> Result<Self, CodegenError> {
-        Self::build(device, step, cull, true)
+        Self::build(device, step, cull, true, false)
+    }
+
+    /// Compiles stereo fog's scan of one eye over the shared volume
+    /// (`VOLFOG_SCAN_RESAMPLE`).
+    pub fn resampling(
+        device: &wgpu::Device,
+        step: ScanStep,
+        cull: bool,
+    ) -> Result<Self, CodegenError> {
+        Self::build(device, step, cull, false, true)
     }
 
     fn build(
@@ -97,15 +153,26 @@ impl ScanPass {
         step: ScanStep,
         cull: bool,
         transient_lights: bool,
+        resample: bool,
     ) -> Result<Self, CodegenError> {
-        let defines = scan_defines(step, cull, transient_lights);
+        let (defines, entries) = if resample {
+            (
+                resample_defines(step, cull),
+                Self::resample_layout_entries(cull),
+            )
+        } else {
+            (
+                scan_defines(step, cull, transient_lights),
+                Self::layout_entries(cull, transient_lights),
+            )
+        };
         let module = shader_module(device, "scan", &defines)?;
-        let entries = Self::layout_entries(cull, transient_lights);
         let layout = bind_group_layout(device, "volfog scan", &entries);
         let pipeline = compute_pipeline(device, "volfog scan", &module, "scan", &layout);
         Ok(Self {
             cull,
             transient_lights,
+            resample,
             layout,
             pipeline,
         })
@@ -173,6 +240,53 @@ impl ScanPass {
             ]);
         }
         Ok(bind_group(device, "volfog scan", &self.layout, &resources))
+    }
+
+    /// A bind group of the resampling variant: the eye's `froxels`, the `shared`
+    /// volume, the eye's `integrated` volume, its live slices (the culling variant
+    /// only) and the resources of [`ResampleScanResources`]. Errors on a pass that is
+    /// not the resampling variant.
+    pub fn resample_bind_group(
+        &self,
+        device: &wgpu::Device,
+        froxels: &wgpu::Buffer,
+        shared: &wgpu::TextureView,
+        integrated: &wgpu::TextureView,
+        live_slices: Option<&wgpu::TextureView>,
+        r: ResampleScanResources<'_>,
+    ) -> Result<wgpu::BindGroup, InvalidValue> {
+        if !self.resample {
+            return Err(InvalidValue {
+                field: "ScanPass::resample_bind_group",
+                value: "a scan without VOLFOG_SCAN_RESAMPLE".into(),
+                expected: "the pass of ScanPass::resampling".into(),
+            });
+        }
+        let mut resources = vec![
+            (0, froxels.as_entire_binding()),
+            (1, wgpu::BindingResource::TextureView(shared)),
+            (2, wgpu::BindingResource::TextureView(integrated)),
+            (5, r.eye.as_entire_binding()),
+            (7, wgpu::BindingResource::Sampler(r.sampler)),
+            (8, r.shared_frame.as_entire_binding()),
+            (9, r.shared_froxels.as_entire_binding()),
+        ];
+        if self.cull {
+            let Some(live) = live_slices else {
+                return Err(InvalidValue {
+                    field: "ScanPass::resample_bind_group live_slices",
+                    value: "None".to_string(),
+                    expected: "the live-slice texture for the depth-culling variant".into(),
+                });
+            };
+            resources.push((3, wgpu::BindingResource::TextureView(live)));
+        }
+        Ok(bind_group(
+            device,
+            "volfog scan resample",
+            &self.layout,
+            &resources,
+        ))
     }
 
     /// Records the scan of a volume of `size` froxels (x, y).

@@ -33,6 +33,7 @@ mod shadow_filter;
 mod shared_fog;
 mod sky;
 mod soft_particles;
+mod stereo;
 mod temporal;
 mod transient;
 mod transparent;

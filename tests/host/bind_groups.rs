@@ -184,10 +184,12 @@ fn runtime_layouts_match_the_shaders() {
     {
         let cull = v.defines.contains(&CULL_DEFINE);
         let transient = v.defines.contains(&scan::TRANSIENT_LIGHTS_DEFINE);
-        checked += check(
-            &v.name,
-            &[(0, scan::ScanPass::layout_entries(cull, transient))],
-        );
+        let entries = if v.defines.contains(&scan::RESAMPLE_DEFINE) {
+            scan::ScanPass::resample_layout_entries(cull)
+        } else {
+            scan::ScanPass::layout_entries(cull, transient)
+        };
+        checked += check(&v.name, &[(0, entries)]);
     }
     for (name, cull) in [("temporal@default", false), ("temporal@FROXEL_CULL", true)] {
         checked += check(name, &[(0, temporal::TemporalPass::layout_entries(cull))]);

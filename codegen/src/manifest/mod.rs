@@ -287,6 +287,7 @@ pub const MODULES: &[ModuleSource] = &[
     module!("fullscreen"),
     module!("froxel"),
     module!("temporal"),
+    module!("stereo"),
     module!("noise"),
     module!("phase"),
     module!("height_fog"),

@@ -8,14 +8,19 @@ pub const PASSES: &[PassSource] = &[
     pass!(
         "scan",
         axes: &[Axis::Flag("VOLFOG_SCAN_WRONSKI_STEP"), Axis::Flag("VOLFOG_FROXEL_CULL"),
-            Axis::Flag("VOLFOG_SCAN_TRANSIENT_LIGHTS")],
+            Axis::OneOf(&["VOLFOG_SCAN_TRANSIENT_LIGHTS", "VOLFOG_SCAN_RESAMPLE"])],
         values: &[],
         usage: "Dispatch ceil(size.x / 8) x ceil(size.y / 8) x 1 workgroups after the \
                 scattering volume is written; the integrated volume is then read by apply. \
                 Under VOLFOG_FROXEL_CULL binding 3 is this frame's live-slice texture \
                 (froxel_cull), bound as uint. VOLFOG_SCAN_TRANSIENT_LIGHTS (frames with \
                 transient lights; binding 1 the stabilised volume): bindings 4, 5, 6 are \
-                FogMedium, TransientLighting and the transient FogLight buffer (>= 1)."
+                FogMedium, TransientLighting and the transient FogLight buffer (>= 1). \
+                VOLFOG_SCAN_RESAMPLE (stereo: an eye's scan of the volume shared by both \
+                eyes): binding 0 is the eye's Froxels, 1 the shared stabilised volume \
+                bound as filterable float, 5 the eye's TransientLighting (its rays), 7 a \
+                filtering clamp-to-edge sampler, 8 the shared volume's FogFrame and 9 its \
+                Froxels; not with VOLFOG_SCAN_TRANSIENT_LIGHTS."
     ),
     pass!(
         "froxel_cull",

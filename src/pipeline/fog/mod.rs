@@ -50,6 +50,7 @@ mod inputs;
 mod local_shadows;
 mod resources;
 mod shared;
+mod stereo;
 mod textures;
 mod timings;
 mod user_textures;
@@ -61,6 +62,7 @@ pub use inputs::{FrameInputs, FrameUniforms};
 pub use local_shadows::{LocalShadowStats, ShadowedLight};
 pub use resources::{SCENE_DEPTH_FORMATS, SHADOW_MAP_FORMATS, VOLUME_FORMAT, check_device};
 pub use shared::SharedFog;
+pub use stereo::StereoFog;
 pub use timings::{FogPass, PassTimings};
 
 use super::apply::{FogResources, fog_bind_group, fog_layout_entries, fog_sampler};
