@@ -32,6 +32,9 @@
 //!    transient lights, with one and with eight, the order rotating from frame to frame;
 //! 10. area lights (`FrameInputs::area_lights`): the baseline's inject with room for
 //!     them, with four point, rectangle or disk lights added, the order rotating.
+//! 11. stereo fog (`StereoFog`, two 1920x1080 eye views 64 mm apart) against one mono
+//!     fog and against two, whole frames with and without the applies, after the
+//!     frames above (its own warm-up and measured frames).
 //!
 //! The baseline takes `FogConfig::default`'s shadow filter (the compare filter), so its
 //! ESM passes do not run; the ESM rows come from the ESM fog of 8.
@@ -55,6 +58,7 @@ pub mod raymarch;
 mod report;
 pub(crate) mod scene;
 mod shadow_cost;
+mod stereo;
 mod table;
 mod transient;
 pub(crate) mod workloads;
@@ -79,6 +83,8 @@ use local_lights::*;
 use passes::*;
 pub use report::*;
 pub use shadow_cost::*;
+pub use stereo::StereoCost;
+use stereo::*;
 pub use table::table;
 pub use transient::TransientCost;
 use transient::*;
@@ -384,6 +390,12 @@ fn run(args: &BenchArgs) -> Result<(), BenchError> {
     work.local_lights.setup.light_through_shadows = esm_through;
     work.local_lights.setup.compare_light_through_shadows = compare_through;
     let raymarch_esm = RaymarchEsm::read(&gpu, work.esm.fog.esm_texture(), &work.config)?;
+    let stereo = StereoBench::new(&gpu, &work.config, &work.scene)?.run(
+        &gpu,
+        &plan,
+        &work.scene,
+        work.cascades,
+    )?;
     let report = summarize(
         &gpu,
         clock,
@@ -398,6 +410,7 @@ fn run(args: &BenchArgs) -> Result<(), BenchError> {
             local_lights: work.local_lights.setup,
             raymarch_esm,
             paired,
+            stereo,
         },
         start,
     )?;

@@ -334,6 +334,8 @@ pub struct Report {
     pub transient_lights: TransientCost,
     /// Area lights against point lights in inject.
     pub area_lights: AreaLightCost,
+    /// Stereo fog against one and two mono fogs.
+    pub stereo: StereoCost,
     /// Wall-clock time of the whole run, seconds.
     pub wall_seconds: f64,
 }
@@ -354,6 +356,8 @@ pub(super) struct Extra {
     pub(super) raymarch_esm: RaymarchEsm,
     /// The ratios of [`PAIRED`], one per measured frame that ran both sides.
     pub(super) paired: std::collections::BTreeMap<&'static str, Vec<f64>>,
+    /// Stereo fog's figures.
+    pub(super) stereo: StereoCost,
 }
 
 /// The report of a run: statistics per series, ratios and memory.
@@ -374,6 +378,7 @@ pub(super) fn summarize(
         local_lights: local,
         raymarch_esm,
         paired,
+        stereo,
     } = extra;
     let series = |k: &str, c: Clock| -> Vec<f64> {
         samples[k]
@@ -527,6 +532,7 @@ pub(super) fn summarize(
         cost,
         transient_lights,
         area_lights,
+        stereo,
         wall_seconds: start.elapsed().as_secs_f64(),
     })
 }
