@@ -173,6 +173,10 @@ pub struct BenchArgs {
     /// timestamps elsewhere.
     #[arg(long, value_enum, default_value_t = ClockArg::Auto)]
     clock: ClockArg,
+    /// Run only the stereo comparison (11.): its table, and its figures as the JSON
+    /// report.
+    #[arg(long)]
+    stereo_only: bool,
 }
 
 /// `--clock`.
@@ -325,6 +329,9 @@ fn run(args: &BenchArgs) -> Result<(), BenchError> {
         }
     };
     say(format!("volfog bench on {}", gpu.describe()));
+    if args.stereo_only {
+        return run_stereo_only(args, &gpu, &plan, &say);
+    }
     say(format!("clock: {}", clock.describe()));
 
     // Memory at the default configuration (no timestamps), before anything else.
@@ -420,6 +427,34 @@ fn run(args: &BenchArgs) -> Result<(), BenchError> {
         print!("{json}");
     } else {
         print!("{}", table(&report));
+    }
+    std::fs::write(&args.out, &json).map_err(|source| BenchError::Io {
+        path: args.out.clone(),
+        source,
+    })?;
+    say(format!("wrote {}", args.out.display()));
+    Ok(())
+}
+
+/// `--stereo-only`: the stereo comparison alone over the bench scene.
+fn run_stereo_only(
+    args: &BenchArgs,
+    gpu: &Gpu,
+    plan: &Plan,
+    say: &dyn Fn(String),
+) -> Result<(), BenchError> {
+    let config = base_config();
+    let scene = Scene::new();
+    let (cascades, _) = scene.cascades(&config);
+    let cost = StereoBench::new(gpu, &config, &scene)?.run(gpu, plan, &scene, cascades)?;
+    let mut out = String::new();
+    stereo_table(&mut out, &cost);
+    let json = serde_json::to_string_pretty(&cost).expect("the figures serialize") + "\n";
+    if args.json {
+        eprint!("{out}");
+        print!("{json}");
+    } else {
+        print!("{out}");
     }
     std::fs::write(&args.out, &json).map_err(|source| BenchError::Io {
         path: args.out.clone(),
