@@ -23,8 +23,9 @@ use crate::tools::{gl_link, glslang, output, slang_check, text};
 /// example (built by `cargo test`, run by `cargo run --example wgpu_fog`), the Bevy
 /// workspace's (built by its `cargo test` and `cargo check --examples`) and the web
 /// page's wasm module (built by `cargo xtask web`, which `cargo xtask test` runs).
-const COMPILED: [&str; 4] = [
+const COMPILED: [&str; 5] = [
     "examples/wgpu_fog.rs",
+    "examples/stereo_fog.rs",
     "bevy/examples/quick_start.rs",
     "web/src/page.rs",
     "web/src/readback.rs",

@@ -14,7 +14,7 @@
 //!
 //! What the shared volume cannot hold per eye: the phase function's view direction is
 //! the centre eye's, off by at most [`CentreEye::eye_distance`] / d radians at distance
-//! d (about 1.5 degrees at 2 m for eyes 64 mm apart with 90-degree frusta), and detail
+//! d (about 1.3 degrees at 2 m for eyes 64 mm apart with 90-degree frusta), and detail
 //! finer than one froxel of the shared grid, e.g. a shadow edge, spreads over about one
 //! froxel of it.
 //!
