@@ -13,6 +13,9 @@
 //! within w_eye / 2 + w_shared / 2 (where the shared grid's samples fall on the edge)
 //! plus one shadow-map texel (the compare filter reads texel centres) of the slab's
 //! edge.
+//! The edge's width (25 % to 75 %) in each eye is at most the mono fog's (the left
+//! eye's camera) plus w_shared: the shared volume's trilinear look-up spreads it by one
+//! froxel of its grid at most.
 //! The image columns of the two crossings differ by the geometry's disparity (the
 //! columns where the eyes' cameras project one world point) within the same w_eye, in
 //! pixels.
@@ -72,57 +75,24 @@ fn a_shadow_boundary_lands_at_one_world_position_in_both_eyes() {
 
     let pixels = (IMAGE[0] * IMAGE[1]) as usize;
     let mut found = [(0.0f32, 0.0f32); 2];
+    let mut widths = [0.0f32; 2];
     for (i, eye) in eyes.iter().enumerate() {
-        // The row whose rays run level (view y = 0) through the sheet's middle.
-        let clip = eye.clip_from_view * glam::Vec4::new(0.0, 0.0, -DEPTH, 1.0);
-        let v = 0.5 - 0.5 * clip.y / clip.w;
-        let row = ((v * IMAGE[1] as f32) - 0.5).round() as u32;
-        // Each pixel's ray per metre of depth (view space): its tangent.
-        let tangent_at = |column: f32| {
-            let ndc_x = 2.0 * (column + 0.5) / IMAGE[0] as f32 - 1.0;
-            let view = eye
-                .clip_from_view
-                .inverse()
-                .project_point3(Vec3::new(ndc_x, 0.0, 0.5));
-            view.x / -view.z
-        };
-        // The fog's radiance divided by the path length through the sheet
-        // (sqrt(1 + tangent^2) per metre of thickness): the sun overhead meets every
-        // level ray at 90 degrees, so lit and shadowed fog are each one level.
-        let values: Vec<f32> = (0..IMAGE[0])
-            .map(|x| {
-                let t = tangent_at(x as f32);
-                image[i * pixels + (row * IMAGE[0] + x) as usize].x / (1.0 + t * t).sqrt()
-            })
-            .collect();
-        // The levels 1 m either side of the edge, well outside its blur.
-        let column_of = |world_x: f32| {
-            let clip = eye.clip_from_view
-                * eye.view_from_world
-                * glam::Vec4::new(world_x, 2.0, -DEPTH, 1.0);
-            let ndc = clip.x / clip.w;
-            (((ndc + 1.0) * 0.5 * IMAGE[0] as f32) - 0.5).round() as usize
-        };
-        let (lo, hi) = (values[column_of(EDGE - 1.0)], values[column_of(EDGE + 1.0)]);
-        assert!(
-            hi > 2.0 * lo + 1e-4,
-            "eye {i}: the sun lights the sheet: {lo} {hi}"
+        let edge = find_edge(eye, &image[i * pixels..(i + 1) * pixels]);
+        found[i] = (edge.column, edge.world_x[1]);
+        widths[i] = edge.world_x[2] - edge.world_x[0];
+        eprintln!(
+            "eye {i}: boundary at column {:.2}, world x {:.3} m, 25-75 % over {:.3} m",
+            edge.column, edge.world_x[1], widths[i]
         );
-        let mid = 0.5 * (lo + hi);
-        let k = (0..values.len() - 1)
-            .find(|&k| values[k] < mid && values[k + 1] >= mid)
-            .expect("the row crosses from shadow into light");
-        let column = k as f32 + (mid - values[k]) / (values[k + 1] - values[k]);
-        // Where the crossing's ray reaches the sheet's middle.
-        let tangent = tangent_at(column);
-        let world_x = eye
-            .view_from_world
-            .inverse()
-            .transform_point3(Vec3::new(tangent * DEPTH, 0.0, -DEPTH))
-            .x;
-        found[i] = (column, world_x);
-        eprintln!("eye {i}: boundary at column {column:.2}, world x {world_x:.3} m");
     }
+    // The mono fog of the left eye's camera: how much the shared volume widens the edge.
+    let (_, mono_image) = mono_frame(gpu, &config, &inputs, &shadow);
+    let mono = find_edge(&eyes[0], &mono_image);
+    let mono_width = mono.world_x[2] - mono.world_x[0];
+    eprintln!(
+        "mono (left eye's camera): boundary at world x {:.3} m, 25-75 % over {mono_width:.3} m",
+        mono.world_x[1]
+    );
     // The widths of one froxel at the sheet: an eye's and the shared grid's (its
     // frustum is the wider, its depth the larger by the apex offset).
     let tangents = volfog::cpu::stereo::frustum_tangents(eyes[0].clip_from_view);
@@ -137,6 +107,14 @@ fn a_shadow_boundary_lands_at_one_world_position_in_both_eyes() {
         0.5 * w_eye + 0.5 * w_shared + texel
     );
     assert!((left.1 - right.1).abs() <= w_eye, "{left:?} {right:?}");
+    // The trilinear look-up of the shared volume spreads the edge by at most one shared
+    // froxel beyond what the eye's own grid does.
+    for width in widths {
+        assert!(
+            width <= mono_width + w_shared,
+            "{width} {mono_width} {w_shared}"
+        );
+    }
     for (column, x) in found {
         assert!(
             (x - EDGE).abs() <= 0.5 * w_eye + 0.5 * w_shared + texel,
@@ -157,4 +135,65 @@ fn a_shadow_boundary_lands_at_one_world_position_in_both_eyes() {
     let pixel_bound = w_eye * focal / DEPTH;
     eprintln!("disparity {disparity:.3} px, geometry {geometry:.3} px (bound {pixel_bound:.3} px)");
     assert!((disparity - geometry).abs() <= pixel_bound);
+}
+
+/// Where a level row of an eye's image crosses from the shadowed into the lit fog.
+struct Edge {
+    /// The image column (pixels, fractional) of the halfway crossing.
+    column: f32,
+    /// World x (m) where the rays of the 25 %, 50 % and 75 % crossings reach the
+    /// sheet's middle.
+    world_x: [f32; 3],
+}
+
+/// The crossing in `image` (one eye's pixels, rows of `IMAGE[0]`) seen by `eye`: the
+/// level row's radiance divided by each ray's path length through the sheet
+/// (sqrt(1 + tangent^2) per metre of thickness; the sun overhead meets every level ray
+/// at 90 degrees, so lit and shadowed fog are each one level), against the levels 1 m
+/// either side of the edge, well outside its blur.
+fn find_edge(eye: &StereoEye, image: &[Vec4]) -> Edge {
+    // The row whose rays run level (view y = 0) through the sheet's middle.
+    let clip = eye.clip_from_view * Vec4::new(0.0, 0.0, -DEPTH, 1.0);
+    let v = 0.5 - 0.5 * clip.y / clip.w;
+    let row = ((v * IMAGE[1] as f32) - 0.5).round() as u32;
+    // Each pixel's ray per metre of depth (view space): its tangent.
+    let tangent_at = |column: f32| {
+        let ndc_x = 2.0 * (column + 0.5) / IMAGE[0] as f32 - 1.0;
+        let view = eye
+            .clip_from_view
+            .inverse()
+            .project_point3(Vec3::new(ndc_x, 0.0, 0.5));
+        view.x / -view.z
+    };
+    let values: Vec<f32> = (0..IMAGE[0])
+        .map(|x| {
+            let t = tangent_at(x as f32);
+            image[(row * IMAGE[0] + x) as usize].x / (1.0 + t * t).sqrt()
+        })
+        .collect();
+    let column_of = |world_x: f32| {
+        let clip = eye.clip_from_view * eye.view_from_world * Vec4::new(world_x, 2.0, -DEPTH, 1.0);
+        let ndc = clip.x / clip.w;
+        (((ndc + 1.0) * 0.5 * IMAGE[0] as f32) - 0.5).round() as usize
+    };
+    let (lo, hi) = (values[column_of(EDGE - 1.0)], values[column_of(EDGE + 1.0)]);
+    assert!(hi > 2.0 * lo + 1e-4, "the sun lights the sheet: {lo} {hi}");
+    let crossing = |share: f32| {
+        let level = lo + share * (hi - lo);
+        let k = (0..values.len() - 1)
+            .find(|&k| values[k] < level && values[k + 1] >= level)
+            .expect("the row crosses from shadow into light");
+        k as f32 + (level - values[k]) / (values[k + 1] - values[k])
+    };
+    // Where a column's ray reaches the sheet's middle.
+    let world_x = |column: f32| {
+        eye.view_from_world
+            .inverse()
+            .transform_point3(Vec3::new(tangent_at(column) * DEPTH, 0.0, -DEPTH))
+            .x
+    };
+    Edge {
+        column: crossing(0.5),
+        world_x: [0.25, 0.5, 0.75].map(|share| world_x(crossing(share))),
+    }
 }
