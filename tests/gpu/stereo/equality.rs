@@ -339,3 +339,68 @@ fn each_eye_equals_the_mono_fog_of_its_camera() {
         assert!(sum_v > 0.0);
     }
 }
+
+/// With temporal reprojection and jitter (the defaults), over frames of a moving head:
+/// each eye scans the shared volume its frame stabilised (the history of that frame's
+/// parity), as the mirror does from that volume read back.
+#[test]
+fn with_temporal_reprojection_each_eye_scans_its_frames_stabilised_volume() {
+    let gpu = gpu();
+    let config = FogConfig {
+        temporal: true,
+        jitter: true,
+        ..config()
+    };
+    let lights = lights();
+    let (cascades, shadow) = sun(gpu, &config);
+    let mut fog = StereoFog::new(&gpu.device, &config).unwrap();
+    fog.shared_mut()
+        .set_shadow_map(&gpu.device, &shadow)
+        .unwrap();
+    for frame in 0..3 {
+        let moved =
+            Mat4::from_translation(Vec3::new(0.05 * frame as f32, 0.0, -0.1 * frame as f32))
+                * head();
+        let eyes = eyes(moved, 0.064);
+        fog.prepare(&gpu.queue, &eyes, &inputs(&eyes[0], &lights, cascades))
+            .unwrap();
+        let mut encoder = gpu.device.create_command_encoder(&Default::default());
+        fog.encode(&mut encoder).unwrap();
+        gpu.queue.submit([encoder.finish()]);
+        let stabilised = fog.shared().stabilised_texture().expect("temporal is on");
+        let shared = Volume {
+            size: config.volume_size.to_array(),
+            texels: read_volume(gpu, stabilised),
+        };
+        let centre = centre_eye(&eyes).unwrap();
+        let shared_froxels = shared_grid(&config, &centre);
+        let clip_from_world = centre.clip_from_view * centre.view_from_world;
+        for (i, eye) in eyes.iter().enumerate() {
+            let (froxels, rays) = eye_grid(&config, eye);
+            let want = resample_scan_volume(
+                &froxels,
+                &rays,
+                config.scan_step,
+                &shared,
+                &shared_froxels,
+                clip_from_world,
+            );
+            let got = read_volume(gpu, fog.eye_integrated_texture(i).unwrap());
+            let bounds = scan_bounds(
+                &froxels,
+                &rays,
+                &shared,
+                &shared_froxels,
+                clip_from_world,
+                &want,
+                &|[spread, _, magnitude], _| 3.0 / 512.0 * spread + 1e-6 * magnitude,
+            );
+            let (over, diff, _) = excess(&got, &want, &bounds);
+            eprintln!("frame {frame}, eye {i}: largest difference {diff:.3e}");
+            assert!(
+                over <= 0.0,
+                "frame {frame}, eye {i}: exceeds its bound by {over:e}"
+            );
+        }
+    }
+}
