@@ -31,8 +31,10 @@
 //! 9. short-lived lights (`FrameInputs::transient_lights`): the baseline's scan without
 //!    transient lights, with one and with eight, the order rotating from frame to frame;
 //! 10. area lights (`FrameInputs::area_lights`): the baseline's inject with room for
-//!     them, with four point, rectangle or disk lights added, the order rotating.
-//! 11. stereo fog (`StereoFog`, two 1920x1080 eye views 64 mm apart) against one mono
+//!     them, with four point, rectangle or disk lights added, the order rotating;
+//! 11. particles (`FrameInputs::particles`): the baseline's inject with room for 10,000,
+//!     with none, 1,000 and 10,000, the order rotating.
+//! 12. stereo fog (`StereoFog`, two 1920x1080 eye views 64 mm apart) against one mono
 //!     fog and against two, whole frames with and without the applies, after the
 //!     frames above (its own warm-up and measured frames).
 //!
@@ -53,6 +55,7 @@ mod area_lights;
 pub mod cost;
 mod floors;
 mod local_lights;
+mod particles;
 mod passes;
 pub mod raymarch;
 mod report;
@@ -80,6 +83,8 @@ pub use area_lights::AreaLightCost;
 use area_lights::*;
 use floors::*;
 use local_lights::*;
+pub use particles::ParticleCost;
+use particles::*;
 use passes::*;
 pub use report::*;
 pub use shadow_cost::*;
@@ -173,7 +178,7 @@ pub struct BenchArgs {
     /// timestamps elsewhere.
     #[arg(long, value_enum, default_value_t = ClockArg::Auto)]
     clock: ClockArg,
-    /// Run only the stereo comparison (11.): its table, and its figures as the JSON
+    /// Run only the stereo comparison (12.): its table, and its figures as the JSON
     /// report.
     #[arg(long)]
     stereo_only: bool,

@@ -336,6 +336,8 @@ pub struct Report {
     pub area_lights: AreaLightCost,
     /// Stereo fog against one and two mono fogs.
     pub stereo: StereoCost,
+    /// Inject with 0, 1,000 and 10,000 particles.
+    pub particles: ParticleCost,
     /// Wall-clock time of the whole run, seconds.
     pub wall_seconds: f64,
 }
@@ -494,6 +496,7 @@ pub(super) fn summarize(
     let cost = super::cost::model(config, &super::cost::sizes(config, live_fraction), &median)?;
     let transient_lights = transient_cost(&median, &per_frame);
     let area_lights = area_light_cost(&median);
+    let particles = particle_cost(&median);
     let mib = to_mib(memory_bytes);
     Ok(Report {
         adapter: gpu.info.name.clone(),
@@ -533,6 +536,7 @@ pub(super) fn summarize(
         transient_lights,
         area_lights,
         stereo,
+        particles,
         wall_seconds: start.elapsed().as_secs_f64(),
     })
 }

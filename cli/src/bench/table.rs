@@ -305,6 +305,7 @@ pub fn table(report: &Report) -> String {
     transient_table(&mut out, &report.transient_lights);
     area_light_table(&mut out, &report.area_lights);
     stereo_table(&mut out, &report.stereo);
+    particle_table(&mut out, &report.particles);
     let m = &report.memory;
     let _ = writeln!(
         out,

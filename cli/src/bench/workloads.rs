@@ -67,6 +67,9 @@ pub(super) const SERIES: &[(&str, &str)] = &[
     ("inject_area_points", "inject, 4 point lights added"),
     ("inject_area_rects", "inject, 4 rectangle lights"),
     ("inject_area_disks", "inject, 4 disk lights"),
+    ("inject_particles_0", "inject, particle variant, none"),
+    ("inject_particles_1000", "inject, 1,000 particles"),
+    ("inject_particles_10000", "inject, 10,000 particles"),
 ];
 
 /// The target ratios taken frame by frame: (key, numerator series, denominator
@@ -231,6 +234,8 @@ pub(super) struct Workloads {
     pub(super) transient: TransientLights,
     /// The baseline's inject with four point, rectangle or disk lights added.
     pub(super) area_lights: AreaLights,
+    /// The baseline's inject with 0, 1,000 and 10,000 particles.
+    pub(super) particles: Particles,
 }
 
 impl Workloads {
@@ -336,6 +341,7 @@ impl Workloads {
         let local_lights = LocalLights::new(gpu, &config, &scene, &shadow_map, &depth)?;
         let transient = TransientLights::new(gpu, &config, &scene, cascades, &shadow_map, &depth)?;
         let area_lights = AreaLights::new(gpu, &config, &scene, cascades, &shadow_map, &depth)?;
+        let particles = Particles::new(gpu, &config, &scene, cascades, &shadow_map, &depth)?;
         Ok(Self {
             config,
             scene,
@@ -361,6 +367,7 @@ impl Workloads {
             local_lights,
             transient,
             area_lights,
+            particles,
         })
     }
 
@@ -444,6 +451,7 @@ impl Workloads {
         let local = self.local_lights.frame(gpu, &inputs, f)?;
         let transient = self.transient.frame(gpu, &inputs, f)?;
         let area = self.area_lights.frame(gpu, &inputs, f)?;
+        let particles = self.particles.frame(gpu, &inputs, f)?;
         let index = self.main.fog.frame_index().expect("prepared above");
         let uniforms = inputs.uniforms(&self.config, index)?;
         self.reference.upload(
@@ -556,6 +564,9 @@ impl Workloads {
             ("inject_area_points", area.points),
             ("inject_area_rects", area.rects),
             ("inject_area_disks", area.disks),
+            ("inject_particles_0", particles.none),
+            ("inject_particles_1000", particles.some),
+            ("inject_particles_10000", particles.most),
         ]);
         samples.extend(raymarch_t.map(|r| ("raymarch_1080p", r)));
         samples.extend(shafts.reference.map(|r| ("epipolar_reference_1080p", r)));

@@ -388,6 +388,22 @@ fn quick_bench_writes_every_ratio_memory_and_adapter() {
     // One unwarmed frame times each configuration once: the differences are left to
     // the full run (a timed test would fail on a busy machine).
     eprintln!("area lights, one frame: {a}");
+
+    // Particles: inject with none, 1,000 and 10,000, and the ratios to none.
+    let p = &report["particles"];
+    let get = |key: &str| p[key].as_f64().unwrap_or(f64::NAN);
+    for key in [
+        "baseline_inject_ms",
+        "inject_0_ms",
+        "inject_1000_ms",
+        "inject_10000_ms",
+    ] {
+        assert!(get(key) > 0.0, "{key}: {p}");
+    }
+    for key in ["ratio_1000_vs_0", "ratio_10000_vs_0"] {
+        assert!(get(key).is_finite(), "{key}: {p}");
+    }
+    eprintln!("particles, one frame: {p}");
 }
 
 /// The cost model reads the passes' textures from their composed shaders: the copy
