@@ -11,6 +11,7 @@ pub mod clouds;
 pub mod density;
 pub mod epipolar;
 pub mod esm;
+pub mod fog_lit;
 pub mod fog_volume;
 pub mod froxel;
 pub mod frustum;

@@ -10,6 +10,7 @@ mod culling;
 mod epipolar;
 mod esm;
 mod far_plane_seam;
+mod fog_lit;
 mod fog_volume;
 mod forward_snippet;
 mod frustum;

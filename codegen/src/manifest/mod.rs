@@ -304,6 +304,7 @@ pub const MODULES: &[ModuleSource] = &[
     module!("water"),
     module!("lightning"),
     module!("soft_particles"),
+    module!("fog_lit"),
     module!("sky"),
     module!("frustum"),
     module!("shadow"),

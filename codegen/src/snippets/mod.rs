@@ -1,7 +1,8 @@
 //! Engine include snippets: the in-shader modules (`apply`, `height_fog`,
-//! `fog_volume`, `lightning`, `soft_particles`, `phase`) as files an engine includes
-//! in its own shaders, in HLSL (`.hlsli`), GLSL 450 (`.glsl`), GLSL ES 3.00 for WebGL2
-//! (`.es.glsl`), MSL (`.h`) and flattened WGSL, generated from the one WGSL source.
+//! `fog_volume`, `lightning`, `soft_particles`, `fog_lit`, `phase`, ...) as files an
+//! engine includes in its own shaders, in HLSL (`.hlsli`), GLSL 450 (`.glsl`), GLSL ES
+//! 3.00 for WebGL2 (`.es.glsl`), MSL (`.h`) and flattened WGSL, generated from the one
+//! WGSL source.
 //!
 //! Every global name starts with `volfog_` (functions, structs, constants; the module's
 //! dependencies come along under their own `volfog_` names); nothing is bound: the
@@ -37,12 +38,13 @@ use chunks::chunks;
 use render::{render, union};
 
 /// The modules exported as snippets.
-pub const SNIPPET_MODULES: [&str; 10] = [
+pub const SNIPPET_MODULES: [&str; 11] = [
     "apply",
     "height_fog",
     "fog_volume",
     "lightning",
     "soft_particles",
+    "fog_lit",
     "water",
     "sky",
     "clouds",

@@ -96,6 +96,15 @@ impl VolumetricFog {
         &self.scattering
     }
 
+    /// The lit volume of the prepared frame (after `encode`): per froxel rgb
+    /// `sigma_s L_in`, a `sigma_t`, the volume the scan integrates (the stabilised
+    /// volume with temporal reprojection, else the scattering volume). Forward shaders
+    /// read the fog's light at a point from it (`volfog::fog_lit`).
+    pub fn lit_texture(&self) -> &wgpu::Texture {
+        self.stabilised_texture()
+            .unwrap_or_else(|| self.scattering_texture())
+    }
+
     /// The stabilised volume of the prepared frame (after `encode`), when temporal
     /// reprojection is on.
     pub fn stabilised_texture(&self) -> Option<&wgpu::Texture> {
