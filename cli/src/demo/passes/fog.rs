@@ -40,6 +40,7 @@ pub(crate) fn fog_config(args: &DemoArgs, timestamps: bool) -> FogConfig {
         esm_blur_radius: 1,
         max_lights: 8,
         max_local_volumes: 4,
+        max_particles: scene::PUFFS as u32,
         noise_octaves: 2,
         cloud_shadow: true,
         shadow_filter: args.shadow_filter,

@@ -176,6 +176,7 @@ impl Demo<'_> {
                 lights: &scene.lights,
                 shadowed_lights: &self.shadowed_lights,
                 local_volumes: &scene.local_volumes,
+                particles: &scene::smoke(setup.time),
                 cascades: setup.cascades,
                 clouds: setup.clouds,
                 ..FrameInputs::new(setup.view_from_world, self.clip_from_view, setup.time)

@@ -1,12 +1,14 @@
 //! The demo scene: a checkered ground, a colonnade wall of pillars with an arch,
 //! a glass sphere on a plinth, a tiled pool of water sunk into the ground, a lamp in
 //! a yard behind the colonnade that shines out through a doorway, a low sun,
-//! coloured point and spot lights, a local fog pocket, the medium and the camera paths
-//! (the main camera above the ground and one under water).
+//! coloured point and spot lights, a local fog pocket, smoke rising from a fire as
+//! particles, the medium and the camera paths (the main camera above the ground and one
+//! under water).
 
 mod cameras;
 mod lamp;
 mod mesh;
+mod smoke;
 
 use glam::{Mat4, Quat, Vec3};
 use volfog::cpu::ambient::AmbientSh;
@@ -20,6 +22,7 @@ pub use cameras::{FAR, FOV_Y, NEAR, camera, fit_cascades, underwater_camera};
 pub use lamp::LampYard;
 use mesh::{CHECKER, EMISSIVE, PLAIN};
 pub use mesh::{Mesh, Vertex};
+pub use smoke::{PUFFS, smoke};
 
 /// Texels per side of the cloud density map.
 pub const CLOUD_MAP_SIZE: u32 = 128;
