@@ -4,7 +4,8 @@
 //! `VolumetricFog` rendered by volfog under `BevyFogCompat` (`-- --bevy-fog`); and a
 //! muzzle flash that lights the fog for one frame, `TransientFogLight` (`-- --flash`,
 //! the space bar fires); and a density of your own, `FroxelFogDensity`, with a
-//! `FroxelFogVolume` that clears the fog in a house (`-- --density`).
+//! `FroxelFogVolume` that clears the fog in a house (`-- --density`); and smoke from a
+//! vent as `FroxelFogParticles` (`-- --particles`).
 //!
 //! Compiled with the workspace's examples (`cargo check --examples` in `bevy/`).
 
@@ -15,6 +16,8 @@ fn main() {
         muzzle_flash();
     } else if std::env::args().any(|a| a == "--density") {
         own_density();
+    } else if std::env::args().any(|a| a == "--particles") {
+        particles();
     } else {
         froxel_fog();
     }
@@ -88,4 +91,35 @@ fn own_density() {
         commands.spawn((FroxelFogVolume { shape: FogVolumeShape::Box, density: 10.0, edge: 0.05, blend: BlendMode::Subtract, order: 1 },
                         Transform::from_xyz(8.0, 2.5, -20.0).with_scale(Vec3::new(8.0, 5.0, 6.0))));
     }).run();
+}
+
+#[rustfmt::skip]
+fn particles() {
+    use bevy::prelude::*;
+    use volfog_bevy::VolumetricFogPlugin;
+
+    use volfog_bevy::volfog::glam as vg;
+    use volfog_bevy::{FogParticle, FroxelFog, FroxelFogParticles};
+
+    #[derive(Component)]
+    struct Vent;
+    fn setup(mut commands: Commands) {
+        commands.spawn((Camera3d::default(), FroxelFog { max_particles: 256, ..default() }));
+        commands.spawn((FroxelFogParticles::default(), Vent));
+    }
+    // Every frame: smoke rising from a vent 20 m ahead, the puffs widening and thinning.
+    fn smoke(time: Res<Time>, mut vents: Query<&mut FroxelFogParticles, With<Vent>>) {
+        let t = time.elapsed_secs();
+        for mut particles in &mut vents {
+            particles.0 = (0..64)
+                .map(|i| {
+                    let h = i as f32 * 0.15;
+                    let at = vg::Vec3::new(0.3 * (h + t).sin(), h, -20.0);
+                    FogParticle::smoke(at, 0.4 + 0.12 * h, 1.5 / (1.0 + h), vg::Vec3::splat(0.4))
+                })
+                .collect();
+        }
+    }
+    App::new().add_plugins((DefaultPlugins, VolumetricFogPlugin))
+        .add_systems(Startup, setup).add_systems(Update, smoke).run();
 }

@@ -12,7 +12,8 @@
 //! its cascades; every other directional light is a directional `FogLight`,
 //! unshadowed. Spot lights take Bevy's cone falloff (`FOG_LIGHT_SPOT_SQUARED`).
 //! Lights marked [`TransientFogLight`] become the fog's transient lights instead
-//! (`FrameInputs::transient_lights`), unshadowed.
+//! (`FrameInputs::transient_lights`), unshadowed. The [`FroxelFogParticles`] of every
+//! entity, in entity order, are the particles of each camera with room for them.
 
 use std::collections::HashSet;
 
@@ -30,13 +31,14 @@ use volfog::glam as vg;
 use volfog::limits::{self, InvalidValue, check};
 use volfog::pipeline::FogConfig;
 use volfog::uniforms::{
-    FOG_LIGHT_SPOT_SQUARED, FogCustomParams, FogLight, FogMedium, HeightFog, LocalVolume,
-    ShadowCascades, VolumeShape,
+    FOG_LIGHT_SPOT_SQUARED, FogCustomParams, FogLight, FogMedium, FogParticle, HeightFog,
+    LocalVolume, ShadowCascades, VolumeShape,
 };
 
 use crate::density::{FroxelFogDensity, custom_density};
 
 use crate::light_shadows::{ExtractedLightShadow, local_shadow_config};
+use crate::particles::FroxelFogParticles;
 use crate::settings::{
     FogLightSelection, FogVolumeShape, FroxelFog, FroxelFogVolume, FroxelFogVolumeTexture,
 };
@@ -76,6 +78,9 @@ pub struct ExtractedFroxelFog {
     pub transient_lights: Vec<FogLight>,
     /// Local volumes.
     pub volumes: Vec<LocalVolume>,
+    /// The particles (emission scaled by the exposure; none without
+    /// `config.max_particles`).
+    pub particles: Vec<FogParticle>,
     /// The density texture the textured volumes read (`FroxelFogVolumeTexture`), bound
     /// in the render world once Bevy has prepared it.
     pub density_texture: Option<AssetId<Image>>,
@@ -98,6 +103,7 @@ impl ExtractedFroxelFog {
             lights: &self.lights,
             transient_lights: &self.transient_lights,
             local_volumes: &self.volumes,
+            particles: &self.particles,
             cascades: self.cascades,
             tail: self.tail,
             custom_params: self.custom_params,
@@ -196,6 +202,7 @@ pub fn extract_froxel_fog(
     points: Extract<PointQuery>,
     spots: Extract<SpotQuery>,
     volumes: Extract<Query<VolumeItems>>,
+    particles: Extract<Query<(Entity, &FroxelFogParticles)>>,
     ambient: Extract<Option<Res<GlobalAmbientLight>>>,
     shadow_map: Extract<Res<DirectionalLightShadowMap>>,
     point_shadow_map: Extract<Res<PointLightShadowMap>>,
@@ -207,6 +214,12 @@ pub fn extract_froxel_fog(
     for render in &others {
         commands.entity(render).remove::<ExtractedFroxelFog>();
     }
+    let mut emitters: Vec<_> = particles.iter().collect();
+    emitters.sort_by_key(|(entity, _)| *entity);
+    let particles: Vec<FogParticle> = emitters
+        .iter()
+        .flat_map(|(_, p)| p.0.iter().copied())
+        .collect();
     for (entity, render, camera, fog, transform, exposure, density) in &cameras {
         let scene = Scene {
             camera,
@@ -245,7 +258,15 @@ pub fn extract_froxel_fog(
             })
             .collect();
         let result = custom_density(density, &shaders).and_then(|custom| {
-            let mut extracted = extracted(fog, &scene, suns.iter(), lights, &local, texture)?;
+            let mut extracted = extracted(
+                fog,
+                &scene,
+                suns.iter(),
+                lights,
+                &local,
+                texture,
+                &particles,
+            )?;
             if let Some((module, params)) = custom {
                 extracted.config.custom_density = Some(module);
                 extracted.custom_params = params;
@@ -392,6 +413,7 @@ fn extracted<'a>(
     (mut lights, light_shadows, mut transient_lights): CollectedLights,
     volumes: &[ExtractedVolume],
     density_texture: Option<AssetId<Image>>,
+    particles: &[FogParticle],
 ) -> Result<ExtractedFroxelFog, InvalidValue> {
     TILE_SIZE.check("FroxelFog.tile_size", fog.tile_size)?;
     let viewport = scene.camera.physical_viewport_size().unwrap_or(UVec2::ONE);
@@ -543,6 +565,7 @@ fn extracted<'a>(
         max_lights: limits::MAX_LIGHTS,
         max_transient_lights: limits::MAX_TRANSIENT_LIGHTS,
         max_local_volumes: MAX_VOLUMES,
+        max_particles: fog.max_particles,
         density_texture: density_texture.is_some(),
         jitter: fog.temporal,
         temporal: fog.temporal,
@@ -576,6 +599,17 @@ fn extracted<'a>(
         light_shadows,
         transient_lights,
         volumes,
+        particles: if fog.max_particles == 0 {
+            Vec::new()
+        } else {
+            particles
+                .iter()
+                .map(|p| FogParticle {
+                    emission: p.emission * scene.exposure,
+                    ..*p
+                })
+                .collect()
+        },
         density_texture,
         cascades,
         tail,
@@ -601,6 +635,7 @@ fn renamed(mut e: InvalidValue, fog: &FroxelFog) -> InvalidValue {
         "FogConfig.slice_curve" => "FroxelFog.slice_curve",
         "FogConfig.esm_exponent" => "FroxelFog.esm_exponent",
         "FogConfig.history_weight" => "FroxelFog.history_weight",
+        "FogConfig.max_particles" => "FroxelFog.max_particles",
         "FogMedium.albedo" => "FroxelFog.medium.albedo",
         "FogMedium.density" => "FroxelFog.medium.density",
         "FogMedium.height_falloff" => "FroxelFog.medium.height_falloff",

@@ -77,6 +77,7 @@ mod extract;
 mod light_shadows;
 pub mod material;
 mod msaa;
+pub mod particles;
 mod render;
 mod settings;
 mod transient;
@@ -97,6 +98,7 @@ pub use density::FroxelFogDensity;
 pub use extract::{ExtractedFroxelFog, MAX_VOLUMES, TILE_SIZE};
 pub use light_shadows::{ExtractedLightShadow, light_shadow_resolution};
 pub use material::FoggedGlassMaterial;
+pub use particles::{FogParticle, FroxelFogParticles};
 pub use render::{FogViews, ViewFog};
 pub use settings::{
     BlendMode, FogLightSelection, FogMediumSettings, FogVolumeShape, FroxelFog, FroxelFogVolume,

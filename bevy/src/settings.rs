@@ -93,6 +93,11 @@ pub struct FroxelFog {
     /// occluder the fog gets under 5 % of the light once it is `3 range /
     /// light_shadow_exponent` m behind it (plus the light's `shadow_depth_bias`).
     pub light_shadow_exponent: f32,
+    /// Room for [`FroxelFogParticles`](crate::FroxelFogParticles) in this camera's fog
+    /// (`volfog::pipeline::FogConfig::max_particles`, 0..=65,536): 0 (the default)
+    /// takes none, at no cost; more particles in the scene than this switch the fog
+    /// off with one warning naming `FrameInputs.particles`.
+    pub max_particles: u32,
 }
 
 impl Default for FroxelFog {
@@ -120,6 +125,7 @@ impl Default for FroxelFog {
             spot_shadows: local.spot_shadows,
             point_shadows: local.point_shadows,
             light_shadow_exponent: local.exponent,
+            max_particles: 0,
         }
     }
 }
