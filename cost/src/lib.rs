@@ -13,7 +13,8 @@
 //!   ([`GpuModel`]);
 //! * [`frame`]: the pipelines the runtime creates for a `FogConfig` and the passes of
 //!   one frame with their dispatch sizes and trip counts; [`transient`]: the scan of a
-//!   frame with transient lights.
+//!   frame with transient lights; [`stereo`]: the frame of stereo fog, the shared
+//!   passes once and each eye's resampling scan and apply.
 //!
 //! RADV chooses the chip its null device stands for from `RADV_FORCE_FAMILY` when a
 //! Vulkan instance is created, so each chip compiles in a worker process of its own
@@ -36,6 +37,7 @@ pub mod measure;
 pub mod model;
 pub mod pipeline;
 pub mod stats;
+pub mod stereo;
 pub mod transient;
 pub mod worker;
 pub mod workload;

@@ -2,9 +2,10 @@
 //! lists, the bench scene's frame as the passes see it, and the passes beside the
 //! froxel pipeline on the same model (the bench's per-pixel raymarch, the floors).
 
-use glam::{UVec3, Vec3};
+use glam::{Mat4, UVec3, Vec3};
 use volfog::cpu::esm::esm_cascade;
 use volfog::cpu::froxel::{live_slices_from_depth, ndc_from_uv, view_from_ndc};
+use volfog::cpu::stereo::{StereoEye, centre_eye};
 use volfog::options::ShadowFilter;
 use volfog::pipeline::{FogConfig, cascade_splits};
 use volfog::uniforms::Froxels;
@@ -21,11 +22,14 @@ use super::GpuCostError;
 
 /// The screen the bench renders at (1080p), which the model applies the fog to.
 pub const SCREEN: (u32, u32) = (1920, 1080);
+/// The eyes' distance in the bench's stereo comparison (m).
+pub const STEREO_IPD: f32 = 0.064;
 /// Wronski's grid in Assassin's Creed IV.
 pub const WRONSKI_GRID: UVec3 = UVec3::new(160, 90, 64);
 
 /// The configurations whose pipelines are listed: the default, the bench's (its
-/// baseline and the cheap-path variants it times) and the demo's.
+/// baseline and the cheap-path variants it times), the demo's and stereo fog's of the
+/// default configuration ([`STEREO_DEFAULT`]).
 pub fn configs() -> Vec<(String, FogConfig)> {
     let base = base_config();
     let names = [
@@ -47,7 +51,17 @@ pub fn configs() -> Vec<(String, FogConfig)> {
     );
     let demo = <DemoCli as clap::Parser>::parse_from(["demo", "--out", "."]);
     list.push(("demo".to_string(), crate::demo::fog_config(&demo.args)));
+    list.push((STEREO_DEFAULT.to_string(), FogConfig::default()));
     list
+}
+
+/// The name in [`configs`] of stereo fog (`StereoFog`) of the default configuration:
+/// its pipelines are those of [`volfog_cost::stereo::stereo_variants`].
+pub const STEREO_DEFAULT: &str = "stereo: default";
+
+/// Whether the configuration named `name` in [`configs`] is stereo fog's.
+pub fn is_stereo(name: &str) -> bool {
+    name.starts_with("stereo")
 }
 
 /// The demo's arguments at their defaults.
@@ -90,15 +104,71 @@ pub fn workload(
 ) -> Result<Workload, GpuCostError> {
     let froxels = froxels(scene, config)?;
     let live = live_slices_from_depth(&froxels, depth, SCREEN.0, SCREEN.1);
+    Ok(workload_of(
+        scene,
+        &froxels,
+        scene.view.inverse(),
+        config,
+        config.depth_cull.then_some(live.as_slice()),
+    ))
+}
+
+/// The eyes of the bench's stereo comparison: the scene's camera split into two eyes
+/// [`STEREO_IPD`] apart, each with the scene's projection.
+pub fn stereo_eyes(scene: &Scene) -> [StereoEye; 2] {
+    let world_from_head = scene.view.inverse();
+    [-0.5f32, 0.5].map(|side| StereoEye {
+        view_from_world: (world_from_head
+            * Mat4::from_translation(Vec3::new(side * STEREO_IPD, 0.0, 0.0)))
+        .inverse(),
+        clip_from_view: scene.projection,
+    })
+}
+
+/// The bench scene's frame as stereo fog's shared volume sees it: the froxels of the
+/// centre eye of [`stereo_eyes`] (its frustum encloses both eyes', its slices shifted
+/// by the apex's offset, as `StereoFog::prepare` places them), without culling.
+pub fn stereo_workload(scene: &Scene, config: &FogConfig) -> Result<Workload, GpuCostError> {
+    let centre = centre_eye(&stereo_eyes(scene))?;
+    let froxels = Froxels::new(
+        centre.clip_from_view,
+        config.volume_size,
+        config.near + centre.apex_offset,
+        config.far + centre.apex_offset,
+        config.slice_curve,
+    )?;
+    let config = FogConfig {
+        near: config.near + centre.apex_offset,
+        far: config.far + centre.apex_offset,
+        ..volfog_cost::stereo::stereo_config(config)
+    };
+    Ok(workload_of(
+        scene,
+        &froxels,
+        centre.view_from_world.inverse(),
+        &config,
+        None,
+    ))
+}
+
+/// The frame of `froxels` placed by `world_from_view` in the bench scene, `live_slices`
+/// culling it.
+fn workload_of(
+    scene: &Scene,
+    froxels: &Froxels,
+    world_from_view: Mat4,
+    config: &FogConfig,
+    live_slices: Option<&[u32]>,
+) -> Workload {
     let splits = cascade_splits(config.cascades, config.near, config.far, 0.75);
     let frame = SceneFrame {
-        froxels: &froxels,
-        world_from_view: scene.view.inverse(),
+        froxels,
+        world_from_view,
         lights: &scene.lights,
         shadowed_lights: &[],
         local_volumes: &scene.local_volumes,
         cascades: (splits, config.cascades),
-        live_slices: config.depth_cull.then_some(live.as_slice()),
+        live_slices,
         screen: SCREEN,
         far_tail: false,
         // The compare filter's taps per froxel with history (the camera stands still,
@@ -108,7 +178,7 @@ pub fn workload(
             ShadowFilter::Esm => 1,
         },
     };
-    Ok(Workload::of(&frame, if config.amortize { 64 } else { 128 }))
+    Workload::of(&frame, if config.amortize { 64 } else { 128 })
 }
 
 /// Mean over the pixels (one per 8 x 8 block) of the cascade search's steps per

@@ -6,13 +6,15 @@
 //! (`volfog_cost::model`): the Xbox One at Wronski's grid (160x90x64) beside
 //! Assassin's Creed IV's figures, the RX 6800 XT and the RX 7900 XTX at the default
 //! grid, with the bench's per-pixel raymarch and the floors (a plain write and copy
-//! of the volume, a blit) on the same models. No GPU is needed: RADV compiles for a
+//! of the volume, a blit) on the same models, and the same frames in stereo
+//! (`StereoFog`, two 1920x1080 eyes) against one mono view. No GPU is needed: RADV compiles for a
 //! chip that is not there, one worker process per chip (`volfog radv-worker`).
 //! With `--bevy`, Bevy's own `VolumetricFog` beside volfog in `fog_bench`'s scene on the
 //! same models, from the report of the Bevy plugin's `fog_gpu_cost` example.
 
 mod bevy;
 mod inputs;
+mod stereo;
 mod table;
 mod transient;
 
@@ -29,7 +31,8 @@ use volfog_cost::workload::Workload;
 use volfog_cost::{Chip, CostError, GpuModel, MODELS, ShaderStats};
 
 pub use bevy::{BevyPeer, BevyRow};
-pub use inputs::{SCREEN, WRONSKI_GRID, configs};
+pub use inputs::{SCREEN, STEREO_DEFAULT, STEREO_IPD, WRONSKI_GRID, configs};
+pub use stereo::StereoModel;
 pub use table::table;
 pub use transient::{TRANSIENT_LIGHT_COUNTS, TransientModel};
 
@@ -159,6 +162,8 @@ pub struct Report {
     pub filters: Vec<FilterModel>,
     /// The frames' scan with transient lights ([`TRANSIENT_LIGHT_COUNTS`]).
     pub transient: Vec<TransientModel>,
+    /// The frames in stereo (`StereoFog`) against one mono view.
+    pub stereo: Vec<StereoModel>,
     /// Bevy's own fog beside volfog in `fog_bench`'s scene (`--bevy`).
     pub bevy: Option<BevyPeer>,
 }
@@ -235,13 +240,20 @@ pub fn chips(names: &[String]) -> Result<Vec<Chip>, GpuCostError> {
     Ok(chips)
 }
 
-/// Every pipeline the runtime creates for `configs`: its shader and who uses it.
+/// Every pipeline the runtime creates for `configs` (`VolumetricFog`'s, or
+/// `StereoFog`'s for a stereo configuration, [`inputs::is_stereo`]): its shader and who
+/// uses it.
 pub fn pipelines(
     configs: &[(String, FogConfig)],
 ) -> Result<Vec<(Shader, Vec<String>)>, GpuCostError> {
     let mut out: Vec<(Shader, Vec<String>)> = Vec::new();
     for (name, config) in configs {
-        for v in runtime_variants(config) {
+        let variants = if inputs::is_stereo(name) {
+            volfog_cost::stereo::stereo_variants(config)
+        } else {
+            runtime_variants(config)
+        };
+        for v in variants {
             let module = volfog::shaders::compose(v.pass, &v.defines).map_err(CostError::from)?;
             for ep in &module.entry_points {
                 if ep.stage == naga::ShaderStage::Vertex {
@@ -349,7 +361,8 @@ pub fn run(args: &GpuCostArgs, worker: &Worker) -> Result<Report, GpuCostError> 
             }
         }
     }
-    for s in transient::shaders(&transient_plans) {
+    let stereo_plans = stereo::plan(&plans, &scene, &depth)?;
+    for s in transient::shaders(&transient_plans).chain(stereo::shaders(&stereo_plans)) {
         if !shaders.iter().any(|k| k.label == s.label) {
             shaders.push(s.clone());
         }
@@ -458,6 +471,8 @@ pub fn run(args: &GpuCostArgs, worker: &Worker) -> Result<Report, GpuCostError> 
         });
     }
     let transient = transient::models(&transient_plans, &plans, find)?;
+    let culled: Vec<f64> = frames.iter().map(|f| f.total_ms).collect();
+    let stereo = stereo::models(&stereo_plans, &plans, &culled, find)?;
     Ok(Report {
         chips: measured
             .iter()
@@ -467,6 +482,7 @@ pub fn run(args: &GpuCostArgs, worker: &Worker) -> Result<Report, GpuCostError> 
         frames,
         filters,
         transient,
+        stereo,
         bevy: peer,
     })
 }

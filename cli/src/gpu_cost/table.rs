@@ -209,6 +209,7 @@ pub fn table(report: &Report) -> String {
     }
     filters(&mut out, &report.filters);
     super::transient::table(&mut out, &report.transient);
+    super::stereo::table(&mut out, &report.stereo);
     if let Some(peer) = &report.bevy {
         super::bevy::table(&mut out, peer);
     }

@@ -78,16 +78,19 @@ fn every_exported_pipeline_compiles_on_radv_for_three_chips() {
     assert!(failures.is_empty(), "{}", failures.join("\n"));
 }
 
-/// The pipelines of the default configuration and the demo's, compiled once for
-/// every chip (as the runtime writes their SPIR-V).
+/// The pipelines of the default configuration, the demo's and stereo fog's of the
+/// default configuration (its eyes' resampling scan), compiled once for every chip (as
+/// the runtime writes their SPIR-V).
 fn default_and_demo() -> &'static (Vec<String>, Vec<ChipResults>) {
     static ONCE: OnceLock<(Vec<String>, Vec<ChipResults>)> = OnceLock::new();
     ONCE.get_or_init(|| {
         let configs: Vec<_> = volfog_cli::gpu_cost::configs()
             .into_iter()
-            .filter(|(name, _)| name == "default" || name == "demo")
+            .filter(|(name, _)| {
+                name == "default" || name == "demo" || name == volfog_cli::gpu_cost::STEREO_DEFAULT
+            })
             .collect();
-        assert_eq!(configs.len(), 2);
+        assert_eq!(configs.len(), 3);
         let shaders = volfog_cli::gpu_cost::pipelines(&configs).unwrap();
         let jobs: Vec<_> = shaders
             .iter()
@@ -433,9 +436,40 @@ fn gpu_cost_models_the_bench_frame_on_the_xbox_one() {
     );
     let extra = t.extra_ms();
     assert!(extra[0] >= 0.0 && extra[1] > extra[0], "{extra:?}");
+    // Stereo fog: the shared inject once, each eye's resampling scan and apply (every
+    // loop of the scan counted), against one mono view of the same configuration
+    // without culling; it costs more than one view and less than two.
+    assert_eq!(report.stereo.len(), 1);
+    let st = &report.stereo[0];
+    assert_eq!((st.gpu, st.grid), ("Xbox One", [160, 90, 64]));
+    let names: Vec<&str> = st.stereo.iter().map(|m| m.pass.name.as_str()).collect();
+    assert_eq!(
+        names,
+        [
+            "inject",
+            "scan, left eye",
+            "scan, right eye",
+            "apply, left eye",
+            "apply, right eye"
+        ]
+    );
+    assert!(st.stereo[1].pass.variant.name().contains("SCAN_RESAMPLE"));
+    assert_eq!(st.culled_mono_ms, frame.total_ms);
+    let sum = |m: &[volfog_cost::measure::PassModel]| m.iter().map(|m| m.estimate.ms).sum::<f64>();
+    assert!((st.stereo_ms - sum(&st.stereo)).abs() < 1e-12);
+    assert!((st.mono_ms - sum(&st.mono)).abs() < 1e-12);
+    assert!(
+        st.stereo_ratio > 1.0 && st.stereo_ratio < st.two_mono_ratio,
+        "{} ms against {} ms",
+        st.stereo_ms,
+        st.mono_ms
+    );
     let text = volfog_cli::gpu_cost::table(&report);
     assert!(
-        text.contains("## Xbox One") && text.contains("AC4") && text.contains("Short-lived lights"),
+        text.contains("## Xbox One")
+            && text.contains("AC4")
+            && text.contains("Short-lived lights")
+            && text.contains("## Stereo fog"),
         "{text}"
     );
 }
