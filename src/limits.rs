@@ -192,6 +192,11 @@ pub const PARTICLE_EXTINCTION: Range<f32> = Range::new(0.0, 1.0e3, "1/m");
 pub const TRANSIENT_LIGHTS: Range<u32> = Range::new(0, MAX_TRANSIENT_LIGHTS, "transient lights");
 /// Capacity of the local volume buffer.
 pub const LOCAL_VOLUMES: Range<u32> = Range::new(0, 256, "volumes");
+/// Texels per axis of the medium-shadow volume (`MediumShadowConfig::size`).
+pub const MEDIUM_SHADOW_AXIS: Range<u32> = Range::new(2, 512, "texels per axis");
+/// Midpoint samples of the medium shadow's march towards a local light
+/// (`MediumShadowConfig::march_steps`).
+pub const MEDIUM_SHADOW_MARCH: Range<u32> = Range::new(1, 64, "samples");
 /// Weight of the reprojected history.
 pub const HISTORY_WEIGHT: Range<f32> = Range::below(0.0, 1.0, "");
 

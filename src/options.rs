@@ -184,6 +184,9 @@ pub struct InjectOptions {
     /// Particles added to the medium (`VOLFOG_INJECT_PARTICLES`, binding 34; see
     /// `volfog::particles`).
     pub particles: bool,
+    /// The medium's extinction beyond its height profile dims the lights' paths
+    /// (`VOLFOG_INJECT_MEDIUM_SHADOW`, bindings 35 to 37; see `volfog::medium_shadow`).
+    pub medium_shadow: bool,
 }
 
 impl Default for InjectOptions {
@@ -204,6 +207,7 @@ impl Default for InjectOptions {
             custom_density: false,
             area_lights: false,
             particles: false,
+            medium_shadow: false,
         }
     }
 }
@@ -249,6 +253,9 @@ impl InjectOptions {
         }
         if self.particles {
             d.push("VOLFOG_INJECT_PARTICLES".to_string());
+        }
+        if self.medium_shadow {
+            d.push("VOLFOG_INJECT_MEDIUM_SHADOW".to_string());
         }
         d.extend(cull_defines(self.depth_cull));
         if self.noise_octaves != manifest::INJECT_NOISE_OCTAVES.default {

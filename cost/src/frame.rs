@@ -96,6 +96,7 @@ pub fn runtime_variants(config: &FogConfig) -> Vec<RuntimeVariant> {
     scan.extend(cull_defines(config.depth_cull));
     v.push(RuntimeVariant::new("scan", scan, "every frame"));
     v.extend(crate::transient::transient_variant(config));
+    v.extend(crate::medium_shadow::medium_shadow_variant(config));
     if config.noise_texture {
         v.push(RuntimeVariant::new("noise_bake", Vec::new(), "once"));
     }
@@ -272,6 +273,34 @@ pub fn frame_passes(config: &FogConfig, work: &Workload) -> Vec<FramePass> {
         work.blocks.1
     };
     let taps = work.extra_shadow_taps;
+    passes.extend(crate::medium_shadow::medium_shadow_pass(config, work));
+    let medium_shadow_bytes = config.medium_shadows.map_or(0, |m| m.memory_bytes());
+    let mut add = |name: &str,
+                   ac4,
+                   variant: RuntimeVariant,
+                   entry: &str,
+                   invocations,
+                   culled,
+                   t: &[(&str, f64)]| {
+        passes.push(FramePass {
+            name: name.to_string(),
+            ac4,
+            variant,
+            entry: entry.to_string(),
+            invocations,
+            culled,
+            target: (0, 0),
+            binding_bytes: if name == "inject" && medium_shadow_bytes > 0 {
+                vec![(
+                    crate::medium_shadow::MEDIUM_SHADOW_BINDING.to_string(),
+                    medium_shadow_bytes,
+                )]
+            } else {
+                Vec::new()
+            },
+            trips: trips(t),
+        })
+    };
     add(
         "inject",
         Some("inject"),
@@ -298,6 +327,10 @@ pub fn frame_passes(config: &FogConfig, work: &Workload) -> Vec<FramePass> {
             ("esm_cascade:", work.cascade_steps),
             ("sun_visibility: t < taps", taps),
             ("local_visibility: t < taps", taps),
+            (
+                "medium_shadow_segment: i < steps",
+                f64::from(config.medium_shadows.map_or(0, |m| m.march_steps)),
+            ),
         ],
     );
     if config.temporal && !config.fused_temporal() {

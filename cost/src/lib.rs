@@ -34,6 +34,7 @@ pub mod floor;
 pub mod frame;
 pub mod loops;
 pub mod measure;
+pub mod medium_shadow;
 pub mod model;
 pub mod pipeline;
 pub mod stats;

@@ -60,6 +60,9 @@
 //      (VOLFOG_INJECT_AREA_LIGHTS only; culled per block as the point lights)
 //  34  storage, read: array<FogParticle>, the first FogMedium.particle_count elements
 //      (VOLFOG_INJECT_PARTICLES only)
+//  35  texture_3d<f32>: the medium-shadow volume the medium_shadow pass wrote
+//  36  sampler, linear, clamp to edge: the medium-shadow volume's
+//  37  uniform MediumShadow: its placement (35-37 VOLFOG_INJECT_MEDIUM_SHADOW only)
 // Lights and local volumes are culled per workgroup: those whose range or extent touches
 // the block's bounding sphere are gathered in workgroup memory (at most 64 lights; when
 // more than 64 local volumes touch a block, every volume is evaluated), so distant ones
@@ -81,6 +84,9 @@
 // directional light is attenuated by the medium's height profile on its way to the
 // froxel (volfog::density::medium_light_transmittance for the sun and directional
 // lights, medium_segment_transmittance for the others); the ambient light is not.
+// Under VOLFOG_INJECT_MEDIUM_SHADOW the rest of the medium (noise, density texture,
+// custom density, local volumes) dims it too (volfog::medium_shadow), the product of
+// the two factors clamped at 1; area lights keep the height profile alone.
 // A froxel without extinction gets no lighting (its in-scattering is 0 whatever the light);
 // the emission of the medium and of the local volumes is added to rgb, so the scan
 // integrates it with the in-scattering.
@@ -127,6 +133,8 @@
 //                                   the medium after the local volumes: the medium
 //                                   clamped at 0, then their sum, its albedo mixed in
 //                                   by extinction (volfog::density::medium_with_sample)
+//   VOLFOG_INJECT_MEDIUM_SHADOW     the medium's shadows on itself (bindings 35-37,
+//                                   see "Under FogLighting.transmittance" above)
 //   VOLFOG_INJECT_LOCAL_SHADOWS     point and spot lights with a projection
 //                                   (FogLight.projection) pass their shadow (in the
 //                                   atlas, or their own depth maps under
@@ -181,6 +189,10 @@
 #ifndef VOLFOG_INJECT_CUSTOM_DENSITY
 #import volfog::density::{medium_with_sample, albedo_with_sample}
 #endif
+#endif
+#ifdef VOLFOG_INJECT_MEDIUM_SHADOW
+#import volfog::types::MediumShadow
+#import volfog::medium_shadow::{medium_shadow_sun, medium_shadow_segment}
 #endif
 #ifdef VOLFOG_INJECT_LOCAL_SHADOWS
 #import volfog::types::LightProjection
@@ -248,6 +260,11 @@ var<private> particle_albedo: vec3<f32>;
 #endif
 #ifdef VOLFOG_INJECT_CUSTOM_DENSITY
 @group(0) @binding(31) var<uniform> custom_params: FogCustomParams;
+#endif
+#ifdef VOLFOG_INJECT_MEDIUM_SHADOW
+@group(0) @binding(35) var medium_shadow_volume: texture_3d<f32>;
+@group(0) @binding(36) var medium_shadow_sampler: sampler;
+@group(0) @binding(37) var<uniform> medium_shadow: MediumShadow;
 #endif
 #ifdef VOLFOG_INJECT_NOISE_TEXTURE
 @group(0) @binding(12) var noise_texture: texture_3d<f32>;
@@ -519,7 +536,12 @@ fn froxel_scattering(id: vec3<u32>, tile_light_count: u32, tile_volume_count: u3
     // profile between the froxel and the sun, up to the medium's top.
     let through = fog_lighting.transmittance != 0u;
     if through {
+#ifdef VOLFOG_INJECT_MEDIUM_SHADOW
+        shadow *= min(medium_light_transmittance(fog_medium, world, fog_lighting.sun.direction)
+            * medium_shadow_sun(medium_shadow_volume, medium_shadow_sampler, medium_shadow, world), 1.0);
+#else
         shadow *= medium_light_transmittance(fog_medium, world, fog_lighting.sun.direction);
+#endif
     }
 #ifdef VOLFOG_INJECT_TWO_COLOR_PHASE
     var light = sun_inscatter_two_color(fog_lighting.sun, shadow, view_dir);
@@ -571,12 +593,25 @@ fn froxel_scattering(id: vec3<u32>, tile_light_count: u32, tile_volume_count: u3
 }
 
 // The medium's transmittance between a froxel and a light: along the segment to a
-// point or spot light, up to the medium's top towards a directional one.
+// point or spot light, up to the medium's top towards a directional one (under
+// VOLFOG_INJECT_MEDIUM_SHADOW times the rest of the medium's, marched over
+// MediumShadow.march_length towards a directional light, clamped at 1).
 fn light_path_transmittance(light: FogLight, world: vec3<f32>) -> f32 {
+#ifdef VOLFOG_INJECT_MEDIUM_SHADOW
+    if (light.flags & FOG_LIGHT_DIRECTIONAL) != 0u {
+        return min(medium_light_transmittance(fog_medium, world, -light.direction)
+            * medium_shadow_segment(medium_shadow_volume, medium_shadow_sampler, medium_shadow,
+                world, world - light.direction * medium_shadow.march_length), 1.0);
+    }
+    return min(medium_segment_transmittance(fog_medium, world, light.position)
+        * medium_shadow_segment(medium_shadow_volume, medium_shadow_sampler, medium_shadow,
+            world, light.position), 1.0);
+#else
     if (light.flags & FOG_LIGHT_DIRECTIONAL) != 0u {
         return medium_light_transmittance(fog_medium, world, -light.direction);
     }
     return medium_segment_transmittance(fog_medium, world, light.position);
+#endif
 }
 
 #ifdef VOLFOG_INJECT_PARTICLES

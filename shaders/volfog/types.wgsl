@@ -206,6 +206,29 @@ struct FogLight {
     flags: u32,
 }
 
+// Placement of the medium-shadow volume (volfog::medium_shadow; Wronski 2014's
+// extension list, Frostbite's volumetric shadow map): a box aligned with the sun, its
+// texels x and y across the sunlight and z along it, from the side facing the sun
+// (w = 0) to the far side (w = 1). Texel (i, j, k) holds at its centre, in r, the
+// optical depth (dimensionless) from the box's sun-side face to it of the medium's
+// extinction beyond the height profile (noise, density texture, custom density, local
+// volumes: what medium_light_transmittance leaves out) and, in g, that excess
+// extinction itself (1/m, negative where the medium is thinner than its profile).
+struct MediumShadow {
+    // World -> volume coordinate uvw in [0, 1]^3 (affine).
+    volume_from_world: mat4x4<f32>,
+    // Volume coordinate -> world (the inverse).
+    world_from_volume: mat4x4<f32>,
+    // Texels per axis, each 2..=512.
+    size: vec3<u32>,
+    // Length (m) of one texel along the sunlight (the box's depth / size.z), > 0.
+    step: f32,
+    // Midpoint samples of the march towards a point, spot or directional light, 1..=64.
+    march_steps: u32,
+    // Length (m) marched towards a directional light (the box's diagonal), > 0.
+    march_length: f32,
+}
+
 // A rectangle or disk (ellipse) emitter lighting the fog, its in-scattering integrated
 // over its area (volfog::area_lights). One-sided: it emits on the side of
 // cross(axis_x, axis_y). Storage-buffer element, 80-byte stride.

@@ -19,6 +19,7 @@ use super::lights::{
 use super::local_shadow::{
     ColorLayer, light_cookie, local_shadow_compare, local_shadow_visibility,
 };
+use super::medium_shadow::MediumShadowVolume;
 use super::noise::{noise_animated, noise_animated_texture};
 use super::particles::medium_with_particles;
 use super::shadow::{shadow_cascade_compare, shadow_tap_visible_depth, shadow_tap_world};
@@ -90,6 +91,10 @@ pub struct InjectInputs<'a> {
     /// `ShadowTaps::use_scene_depth` is 1: the compare filter moves its taps in front of
     /// its surface (`shadow_tap_visible_depth`); `None` leaves them where they are.
     pub scene_depth: Option<&'a Layer>,
+    /// The medium-shadow volume (`VOLFOG_INJECT_MEDIUM_SHADOW`, see
+    /// [`MediumShadowVolume::fill`]); `None` dims the light by the height profile
+    /// alone.
+    pub medium_shadow: Option<&'a MediumShadowVolume>,
 }
 
 /// What the local-shadow variant of inject reads besides the lights.
@@ -244,6 +249,93 @@ pub fn froxel_scattering_particles(
         froxel_world_position(inputs.froxels, inputs.frame, id, inputs.options.jitter);
     let view_dir = (world - inputs.frame.camera_position).normalize();
     let m = inputs.medium;
+    let (mut medium, mut albedo) = medium_at(inputs, world, custom);
+    let in_use = &particles[..particles.len().min(m.particle_count as usize)];
+    if inputs.options.particles && !in_use.is_empty() {
+        (medium, albedo) = medium_with_particles(medium, albedo, in_use, world);
+    }
+    let emission = medium.truncate().max(Vec3::ZERO);
+    let sigma_t = medium.w.max(0.0);
+    let compare = inputs.options.shadow_compare;
+    let shadow = if !compare {
+        esm_shadow(
+            inputs.esm,
+            inputs.cascades,
+            world,
+            view_depth,
+            inputs.options.esm_log_space,
+        )
+    } else if inputs.cascades.count > 0 {
+        // The sample (tap 0) sits at `world`, as in the pass.
+        tap_mean(inputs, id, taps, |w, d| sun_compare(inputs, w, d))
+    } else {
+        1.0
+    };
+    let shadow = match (inputs.options.cloud_shadow, inputs.clouds) {
+        (true, Some((map, layer))) => shadow * cloud_shadow(map, layer, world),
+        _ => shadow,
+    };
+    let l = inputs.lighting;
+    let through = l.transmittance != 0;
+    let medium_shadow = inputs
+        .medium_shadow
+        .filter(|_| inputs.options.medium_shadow);
+    let shadow = match (through, medium_shadow) {
+        (true, Some(v)) => {
+            shadow * (medium_light_transmittance(m, world, l.sun.direction) * v.sun(world)).min(1.0)
+        }
+        (true, None) => shadow * medium_light_transmittance(m, world, l.sun.direction),
+        (false, _) => shadow,
+    };
+    let mut light = if inputs.options.two_color_phase {
+        sun_inscatter_two_color(&l.sun, shadow, view_dir)
+    } else {
+        sun_inscatter(&l.sun, shadow, view_dir, m.phase_g)
+    };
+    light += ambient_inscatter(l.ambient_r, l.ambient_g, l.ambient_b, view_dir, m.phase_g);
+    for light_source in inputs.lights.iter().take(l.light_count as usize) {
+        let mut inscatter = fog_light_inscatter(light_source, world, view_dir, m.phase_g);
+        if through {
+            let profile = fog_light_transmittance(m, light_source, world);
+            inscatter *= match medium_shadow {
+                Some(v) => (profile * v.light(light_source, world)).min(1.0),
+                None => profile,
+            };
+        }
+        if let Some(local) = inputs
+            .local_shadows
+            .filter(|_| inputs.options.local_shadows)
+            && let Some(p) = local.projections.get(light_source.projection as usize)
+        {
+            let visibility = if compare {
+                tap_mean(inputs, id, taps, |w, _| {
+                    local_shadow_compare(local.spot_maps, local.point_maps, p, w)
+                })
+            } else {
+                local_shadow_visibility(local.atlas, p, world, inputs.options.esm_log_space)
+            };
+            inscatter *= visibility * light_cookie(local.cookies, p, world);
+        }
+        light += inscatter;
+    }
+    if sigma_t <= 0.0 {
+        return emission.extend(0.0).min(Vec4::splat(HALF_MAX));
+    }
+    (albedo * sigma_t * light + emission)
+        .extend(sigma_t)
+        .min(Vec4::splat(HALF_MAX))
+}
+
+/// The medium at a world position as the inject pass composes it: rgb the emission
+/// per metre, a the extinction (before the clamp at 0), and the albedo: the height
+/// profile with noise and density texture, the custom density (`custom`, the
+/// custom-density variant) and the local volumes blended in buffer order.
+pub fn medium_at(
+    inputs: &InjectInputs<'_>,
+    world: Vec3,
+    custom: Option<CustomMedium<'_>>,
+) -> (Vec4, Vec3) {
+    let m = inputs.medium;
     let (time, octaves) = (inputs.frame.time, inputs.options.noise_octaves);
     let noise = match (inputs.options.noise_texture, inputs.noise_texture) {
         (true, Some(t)) => noise_animated_texture(t, world, m.noise_scale, m.wind, time, octaves),
@@ -281,71 +373,7 @@ pub fn froxel_scattering_particles(
             _ => local_volume_blend(medium, v, world),
         };
     }
-    let in_use = &particles[..particles.len().min(m.particle_count as usize)];
-    if inputs.options.particles && !in_use.is_empty() {
-        (medium, albedo) = medium_with_particles(medium, albedo, in_use, world);
-    }
-    let emission = medium.truncate().max(Vec3::ZERO);
-    let sigma_t = medium.w.max(0.0);
-    let compare = inputs.options.shadow_compare;
-    let shadow = if !compare {
-        esm_shadow(
-            inputs.esm,
-            inputs.cascades,
-            world,
-            view_depth,
-            inputs.options.esm_log_space,
-        )
-    } else if inputs.cascades.count > 0 {
-        // The sample (tap 0) sits at `world`, as in the pass.
-        tap_mean(inputs, id, taps, |w, d| sun_compare(inputs, w, d))
-    } else {
-        1.0
-    };
-    let shadow = match (inputs.options.cloud_shadow, inputs.clouds) {
-        (true, Some((map, layer))) => shadow * cloud_shadow(map, layer, world),
-        _ => shadow,
-    };
-    let l = inputs.lighting;
-    let through = l.transmittance != 0;
-    let shadow = if through {
-        shadow * medium_light_transmittance(m, world, l.sun.direction)
-    } else {
-        shadow
-    };
-    let mut light = if inputs.options.two_color_phase {
-        sun_inscatter_two_color(&l.sun, shadow, view_dir)
-    } else {
-        sun_inscatter(&l.sun, shadow, view_dir, m.phase_g)
-    };
-    light += ambient_inscatter(l.ambient_r, l.ambient_g, l.ambient_b, view_dir, m.phase_g);
-    for light_source in inputs.lights.iter().take(l.light_count as usize) {
-        let mut inscatter = fog_light_inscatter(light_source, world, view_dir, m.phase_g);
-        if through {
-            inscatter *= fog_light_transmittance(m, light_source, world);
-        }
-        if let Some(local) = inputs
-            .local_shadows
-            .filter(|_| inputs.options.local_shadows)
-            && let Some(p) = local.projections.get(light_source.projection as usize)
-        {
-            let visibility = if compare {
-                tap_mean(inputs, id, taps, |w, _| {
-                    local_shadow_compare(local.spot_maps, local.point_maps, p, w)
-                })
-            } else {
-                local_shadow_visibility(local.atlas, p, world, inputs.options.esm_log_space)
-            };
-            inscatter *= visibility * light_cookie(local.cookies, p, world);
-        }
-        light += inscatter;
-    }
-    if sigma_t <= 0.0 {
-        return emission.extend(0.0).min(Vec4::splat(HALF_MAX));
-    }
-    (albedo * sigma_t * light + emission)
-        .extend(sigma_t)
-        .min(Vec4::splat(HALF_MAX))
+    (medium, albedo)
 }
 
 /// Largest finite rgba16float value; the inject output is clamped to it.

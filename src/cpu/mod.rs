@@ -21,6 +21,7 @@ pub mod inject;
 pub mod lightning;
 pub mod lights;
 pub mod local_shadow;
+pub mod medium_shadow;
 pub mod noise;
 pub mod particles;
 pub mod phase;

@@ -72,6 +72,10 @@ pub struct InjectResources<'a> {
     /// required by it, ignored by the others; its first `FogMedium::particle_count`
     /// elements are read).
     pub particles: Option<&'a wgpu::Buffer>,
+    /// The medium-shadow volume, its linear, clamp-to-edge sampler and the
+    /// `MediumShadow` uniform of the medium-shadow variant (bindings 35 to 37; required
+    /// by it, ignored by the others).
+    pub medium_shadow: Option<(&'a wgpu::TextureView, &'a wgpu::Sampler, &'a wgpu::Buffer)>,
 }
 
 /// The resources of the fused-temporal variant of the inject pass (bindings 22 to 26;
@@ -198,6 +202,11 @@ impl InjectPass {
         }
         if options.particles {
             entries.push(storage_buffer_entry(34, c, true));
+        }
+        if options.medium_shadow {
+            entries.push(texture_entry(35, c, wgpu::TextureViewDimension::D3, true));
+            entries.push(sampler_entry(36, c, true));
+            entries.push(uniform_entry(37, c));
         }
         if options.temporal {
             entries.push(texture_entry(22, c, wgpu::TextureViewDimension::D3, true));
@@ -355,6 +364,17 @@ impl InjectPass {
                 .particles
                 .ok_or_else(|| missing("InjectResources.particles", "the FogParticle buffer"))?;
             resources.push((34, particles.as_entire_binding()));
+        }
+        if self.options.medium_shadow {
+            let (volume, sampler, params) = r.medium_shadow.ok_or_else(|| {
+                missing(
+                    "InjectResources.medium_shadow",
+                    "the medium-shadow volume, its sampler and the MediumShadow uniform",
+                )
+            })?;
+            resources.push((35, wgpu::BindingResource::TextureView(volume)));
+            resources.push((36, wgpu::BindingResource::Sampler(sampler)));
+            resources.push((37, params.as_entire_binding()));
         }
         if let Some(sampler) = &self.history_sampler {
             let t = r.temporal.ok_or_else(|| {

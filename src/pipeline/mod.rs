@@ -16,6 +16,7 @@ mod fog;
 pub mod hull;
 pub mod inject;
 pub mod local_shadow;
+pub mod medium_shadow;
 pub mod noise;
 pub mod scan;
 pub mod sky;

@@ -36,6 +36,7 @@ mod hull;
 mod lighting;
 mod local_shadow;
 mod medium;
+mod medium_shadow;
 mod particles;
 mod shadow;
 mod sky;
@@ -61,6 +62,7 @@ pub use local_shadow::{
     LightProjection, LocalShadowSource,
 };
 pub use medium::{BlendMode, FogMedium, LocalVolume, VolumeShape};
+pub use medium_shadow::{MediumShadow, MediumShadowConfig};
 pub use particles::FogParticle;
 pub use shadow::{ShadowCascades, ShadowTaps};
 pub use sky::SkyAtmosphere;

@@ -81,6 +81,7 @@ fn mirror(config: &FogConfig, area_lights: &[AreaLight]) -> (Vec<Vec4>, Vec<Vec4
         clouds: None,
         local_shadows: None,
         scene_depth: None,
+        medium_shadow: None,
     };
     let size = config.volume_size;
     let base: Vec<Vec4> = (0..size.x * size.y * size.z)

@@ -557,6 +557,7 @@ fn fog_carries_the_cloud_shadows() {
         clouds: Some((&map, &layer)),
         local_shadows: None,
         scene_depth: None,
+        medium_shadow: None,
     };
     let size = config.volume_size;
     let (mut worst, mut shadowed, mut open) = (0.0f32, 0, 0);

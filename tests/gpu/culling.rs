@@ -620,6 +620,7 @@ fn checkerboard_inject_writes_this_frames_live_froxels_only() {
         clouds: None,
         local_shadows: None,
         scene_depth: Some(&depth_layer),
+        medium_shadow: None,
     };
     let size = config.volume_size;
     let (mut written, mut kept, mut worst) = (0, 0, 0.0f32);

@@ -23,6 +23,7 @@ mod inject;
 mod js_host;
 mod lightning;
 mod local_shadow;
+mod medium_shadow;
 mod msaa;
 mod noise;
 mod particles;

@@ -73,6 +73,7 @@ fn mirror(config: &FogConfig, frame: &FrameInputs<'_>) -> Vec<Vec4> {
         clouds: None,
         local_shadows: None,
         scene_depth: None,
+        medium_shadow: None,
     };
     let size = config.volume_size;
     (0..size.x * size.y * size.z)

@@ -150,6 +150,7 @@ fn fused_blend_takes_more_taps_where_history_is_missing() {
             clouds: None,
             local_shadows: None,
             scene_depth: None,
+            medium_shadow: None,
         };
         let mut out = vec![Vec4::ZERO; (size.x * size.y * size.z) as usize];
         for z in 0..size.z {

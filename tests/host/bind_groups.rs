@@ -232,11 +232,30 @@ fn runtime_layouts_match_the_shaders() {
             shadow_compare: v.defines.contains(&"VOLFOG_INJECT_SHADOW_COMPARE"),
             area_lights: v.defines.contains(&"VOLFOG_INJECT_AREA_LIGHTS"),
             particles: v.defines.contains(&"VOLFOG_INJECT_PARTICLES"),
+            medium_shadow: v.defines.contains(&"VOLFOG_INJECT_MEDIUM_SHADOW"),
             ..InjectOptions::default()
         };
         checked += check(
             &v.name,
             &[(0, inject::InjectPass::layout_entries(&options))],
+        );
+    }
+    for v in volfog_codegen::manifest::variants()
+        .into_iter()
+        .filter(|v| v.pass.name == "medium_shadow")
+    {
+        let options = InjectOptions {
+            density_texture: v.defines.contains(&"VOLFOG_INJECT_DENSITY_TEXTURE"),
+            noise_texture: v.defines.contains(&"VOLFOG_INJECT_NOISE_TEXTURE"),
+            particles: v.defines.contains(&"VOLFOG_INJECT_PARTICLES"),
+            ..InjectOptions::default()
+        };
+        checked += check(
+            &v.name,
+            &[(
+                0,
+                volfog::pipeline::medium_shadow::MediumShadowPass::layout_entries(&options),
+            )],
         );
     }
     // The custom-density variant (composed with a user's module, never prebuilt), alone

@@ -335,6 +335,14 @@ fn rust_layouts() -> BTreeMap<&'static str, Measured> {
             fog_intensity: f32,
             range: f32,
         }),
+        measure!(MediumShadow {
+            volume_from_world: Mat4,
+            world_from_volume: Mat4,
+            size: UVec3,
+            step: f32,
+            march_steps: u32,
+            march_length: f32,
+        }),
         measure!(TransientLighting {
             camera_position: Vec3,
             count: u32,
@@ -447,6 +455,7 @@ fn uniform_structs_serialize_with_wgsl_member_names() {
         ("TransientLighting", keys(TransientLighting::default())),
         ("AreaLight", keys(AreaLight::default())),
         ("FogParticle", keys(FogParticle::default())),
+        ("MediumShadow", keys(MediumShadow::default())),
         ("Froxels", keys(Froxels::default())),
     ]);
     let wgsl = wgsl_layouts();

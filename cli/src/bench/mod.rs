@@ -33,8 +33,10 @@
 //! 10. area lights (`FrameInputs::area_lights`): the baseline's inject with room for
 //!     them, with four point, rectangle or disk lights added, the order rotating;
 //! 11. particles (`FrameInputs::particles`): the baseline's inject with room for 10,000,
-//!     with none, 1,000 and 10,000, the order rotating.
-//! 12. stereo fog (`StereoFog`, two 1920x1080 eye views 64 mm apart) against one mono
+//!     with none, 1,000 and 10,000, the order rotating;
+//! 12. the medium's shadows (`FogConfig::medium_shadows`): the `medium_shadow` pass and
+//!     the inject that reads it against the baseline's inject;
+//! 13. stereo fog (`StereoFog`, two 1920x1080 eye views 64 mm apart) against one mono
 //!     fog and against two, whole frames with and without the applies, after the
 //!     frames above (its own warm-up and measured frames).
 //!
@@ -55,6 +57,7 @@ mod area_lights;
 pub mod cost;
 mod floors;
 mod local_lights;
+mod medium_shadows;
 mod particles;
 mod passes;
 pub mod raymarch;
@@ -83,6 +86,8 @@ pub use area_lights::AreaLightCost;
 use area_lights::*;
 use floors::*;
 use local_lights::*;
+pub use medium_shadows::MediumShadowCost;
+use medium_shadows::*;
 pub use particles::ParticleCost;
 use particles::*;
 use passes::*;

@@ -161,6 +161,7 @@ fn timing(timings: &mut PassTimings, pass: Option<FogPass>) -> &mut f64 {
         Some(FogPass::EsmDownsample) => &mut timings.esm_downsample,
         Some(FogPass::EsmBlur) => &mut timings.esm_blur,
         Some(FogPass::LocalShadows) => &mut timings.local_shadows,
+        Some(FogPass::MediumShadow) => &mut timings.medium_shadow,
         Some(FogPass::Inject) => &mut timings.inject,
         Some(FogPass::Temporal) => &mut timings.temporal,
         Some(FogPass::Scan) => &mut timings.scan,

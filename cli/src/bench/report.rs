@@ -338,6 +338,8 @@ pub struct Report {
     pub stereo: StereoCost,
     /// Inject with 0, 1,000 and 10,000 particles.
     pub particles: ParticleCost,
+    /// The medium's shadows: their pass and inject against the baseline's inject.
+    pub medium_shadows: MediumShadowCost,
     /// Wall-clock time of the whole run, seconds.
     pub wall_seconds: f64,
 }
@@ -497,6 +499,7 @@ pub(super) fn summarize(
     let transient_lights = transient_cost(&median, &per_frame);
     let area_lights = area_light_cost(&median);
     let particles = particle_cost(&median);
+    let medium_shadows = medium_shadow_cost(&median);
     let mib = to_mib(memory_bytes);
     Ok(Report {
         adapter: gpu.info.name.clone(),
@@ -537,6 +540,7 @@ pub(super) fn summarize(
         area_lights,
         stereo,
         particles,
+        medium_shadows,
         wall_seconds: start.elapsed().as_secs_f64(),
     })
 }

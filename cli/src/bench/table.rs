@@ -306,6 +306,7 @@ pub fn table(report: &Report) -> String {
     area_light_table(&mut out, &report.area_lights);
     stereo_table(&mut out, &report.stereo);
     particle_table(&mut out, &report.particles);
+    medium_shadow_table(&mut out, &report.medium_shadows);
     let m = &report.memory;
     let _ = writeln!(
         out,

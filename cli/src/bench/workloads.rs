@@ -70,6 +70,8 @@ pub(super) const SERIES: &[(&str, &str)] = &[
     ("inject_particles_0", "inject, particle variant, none"),
     ("inject_particles_1000", "inject, 1,000 particles"),
     ("inject_particles_10000", "inject, 10,000 particles"),
+    ("medium_shadow", "medium_shadow pass, 64^3"),
+    ("inject_medium_shadow", "inject, medium shadows"),
 ];
 
 /// The target ratios taken frame by frame: (key, numerator series, denominator
@@ -236,6 +238,8 @@ pub(super) struct Workloads {
     pub(super) area_lights: AreaLights,
     /// The baseline's inject with 0, 1,000 and 10,000 particles.
     pub(super) particles: Particles,
+    /// The baseline with the medium's shadows: their pass and inject.
+    pub(super) medium_shadows: MediumShadows,
 }
 
 impl Workloads {
@@ -342,6 +346,8 @@ impl Workloads {
         let transient = TransientLights::new(gpu, &config, &scene, cascades, &shadow_map, &depth)?;
         let area_lights = AreaLights::new(gpu, &config, &scene, cascades, &shadow_map, &depth)?;
         let particles = Particles::new(gpu, &config, &scene, cascades, &shadow_map, &depth)?;
+        let medium_shadows =
+            MediumShadows::new(gpu, &config, &scene, cascades, &shadow_map, &depth)?;
         Ok(Self {
             config,
             scene,
@@ -368,6 +374,7 @@ impl Workloads {
             transient,
             area_lights,
             particles,
+            medium_shadows,
         })
     }
 
@@ -452,6 +459,7 @@ impl Workloads {
         let transient = self.transient.frame(gpu, &inputs, f)?;
         let area = self.area_lights.frame(gpu, &inputs, f)?;
         let particles = self.particles.frame(gpu, &inputs, f)?;
+        let medium = self.medium_shadows.frame(gpu, &inputs)?;
         let index = self.main.fog.frame_index().expect("prepared above");
         let uniforms = inputs.uniforms(&self.config, index)?;
         self.reference.upload(
@@ -567,6 +575,8 @@ impl Workloads {
             ("inject_particles_0", particles.none),
             ("inject_particles_1000", particles.some),
             ("inject_particles_10000", particles.most),
+            ("medium_shadow", medium.pass),
+            ("inject_medium_shadow", medium.inject),
         ]);
         samples.extend(raymarch_t.map(|r| ("raymarch_1080p", r)));
         samples.extend(shafts.reference.map(|r| ("epipolar_reference_1080p", r)));

@@ -14,6 +14,7 @@
 
 mod bevy;
 mod inputs;
+mod medium;
 mod stereo;
 mod table;
 mod transient;
@@ -32,6 +33,7 @@ use volfog_cost::{Chip, CostError, GpuModel, MODELS, ShaderStats};
 
 pub use bevy::{BevyPeer, BevyRow};
 pub use inputs::{SCREEN, STEREO_DEFAULT, STEREO_IPD, WRONSKI_GRID, configs};
+pub use medium::MediumShadowModel;
 pub use stereo::StereoModel;
 pub use table::table;
 pub use transient::{TRANSIENT_LIGHT_COUNTS, TransientModel};
@@ -164,6 +166,8 @@ pub struct Report {
     pub transient: Vec<TransientModel>,
     /// The frames in stereo (`StereoFog`) against one mono view.
     pub stereo: Vec<StereoModel>,
+    /// The frames with the medium's shadows (`MediumShadowConfig::default()`).
+    pub medium_shadows: Vec<MediumShadowModel>,
     /// Bevy's own fog beside volfog in `fog_bench`'s scene (`--bevy`).
     pub bevy: Option<BevyPeer>,
 }
@@ -330,6 +334,7 @@ pub fn run(args: &GpuCostArgs, worker: &Worker) -> Result<Report, GpuCostError> 
     let depth = scene.depth_buffer(SCREEN.0, SCREEN.1);
     let mut plans = Vec::new();
     let mut filter_plans = Vec::new();
+    let mut medium_plans = Vec::new();
     for gpu in MODELS.iter().filter(|m| chips.contains(&m.chip)) {
         // Wronski's grid on his GPU, the default grid on the others.
         let mut config = FogConfig::default();
@@ -343,12 +348,17 @@ pub fn run(args: &GpuCostArgs, worker: &Worker) -> Result<Report, GpuCostError> 
             };
             filter_plans.push(plan(gpu, config, &scene, &depth)?);
         }
+        let medium = FogConfig {
+            medium_shadows: Some(volfog::uniforms::MediumShadowConfig::default()),
+            ..config.clone()
+        };
+        medium_plans.push(plan(gpu, medium, &scene, &depth)?);
         plans.push(plan(gpu, config, &scene, &depth)?);
     }
     // Every shader once: the listed pipelines, then what the frames add.
     let mut shaders: Vec<Shader> = listed.iter().map(|(s, _)| s.clone()).collect();
     let transient_plans = transient::plan(&plans)?;
-    for p in plans.iter().chain(&filter_plans) {
+    for p in plans.iter().chain(&filter_plans).chain(&medium_plans) {
         let extra = p
             .passes
             .iter()
@@ -473,6 +483,7 @@ pub fn run(args: &GpuCostArgs, worker: &Worker) -> Result<Report, GpuCostError> 
     let transient = transient::models(&transient_plans, &plans, find)?;
     let culled: Vec<f64> = frames.iter().map(|f| f.total_ms).collect();
     let stereo = stereo::models(&stereo_plans, &plans, &culled, find)?;
+    let medium_shadows = medium::models(&medium_plans, &frames, find)?;
     Ok(Report {
         chips: measured
             .iter()
@@ -483,6 +494,7 @@ pub fn run(args: &GpuCostArgs, worker: &Worker) -> Result<Report, GpuCostError> 
         filters,
         transient,
         stereo,
+        medium_shadows,
         bevy: peer,
     })
 }

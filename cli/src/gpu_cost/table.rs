@@ -210,6 +210,7 @@ pub fn table(report: &Report) -> String {
     filters(&mut out, &report.filters);
     super::transient::table(&mut out, &report.transient);
     super::stereo::table(&mut out, &report.stereo);
+    super::medium::table(&mut out, &report.medium_shadows);
     if let Some(peer) = &report.bevy {
         super::bevy::table(&mut out, peer);
     }

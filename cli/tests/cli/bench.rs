@@ -404,6 +404,19 @@ fn quick_bench_writes_every_ratio_memory_and_adapter() {
         assert!(get(key).is_finite(), "{key}: {p}");
     }
     eprintln!("particles, one frame: {p}");
+
+    // The medium's shadows: their pass and inject beside the baseline's inject.
+    let m = &report["medium_shadows"];
+    let get = |key: &str| m[key].as_f64().unwrap_or(f64::NAN);
+    for key in [
+        "pass_ms",
+        "inject_ms",
+        "baseline_inject_ms",
+        "total_vs_inject",
+    ] {
+        assert!(get(key).is_finite() && get(key) > 0.0, "{key}: {m}");
+    }
+    eprintln!("medium shadows, one frame: {m}");
 }
 
 /// The cost model reads the passes' textures from their composed shaders: the copy

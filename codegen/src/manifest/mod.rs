@@ -299,6 +299,7 @@ pub const MODULES: &[ModuleSource] = &[
     module!("lights"),
     module!("area_lights"),
     module!("particles"),
+    module!("medium_shadow"),
     module!("esm"),
     module!("fog_volume"),
     module!("water"),

@@ -112,6 +112,8 @@ pub const PASSES: &[PassSource] = &[
                 // The particles (binding 34), prebuilt alone; the runtime composes
                 // them with the other defines it needs.
                 &["VOLFOG_INJECT_PARTICLES"],
+                // The medium's shadows (bindings 35 to 37), likewise.
+                &["VOLFOG_INJECT_MEDIUM_SHADOW"],
             ]),
         ],
         values: &[INJECT_NOISE_OCTAVES],
@@ -155,8 +157,33 @@ pub const PASSES: &[PassSource] = &[
                 bind a 1 x 1 texture where there is none). Under \
                 VOLFOG_INJECT_CUSTOM_DENSITY (composed with the user's module, never \
                 prebuilt) binding 31 is the FogCustomParams uniform (128 bytes: eight \
-                vec4 the user's function reads).",
+                vec4 the user's function reads). Under VOLFOG_INJECT_MEDIUM_SHADOW \
+                binding 35 is the volume the medium_shadow pass wrote this frame \
+                (rgba16float 3D, bound as filterable float), binding 36 its sampler, \
+                linear with clamp-to-edge addressing, binding 37 the MediumShadow \
+                uniform medium_shadow read.",
         non_filtering: &["gather_sampler"],
+        hooks: &[CUSTOM_DENSITY]
+    ),
+    pass!(
+        "medium_shadow",
+        axes: &[
+            Axis::Flag("VOLFOG_INJECT_NOISE_TEXTURE"),
+            Axis::Sets(&[&["VOLFOG_INJECT_DENSITY_TEXTURE"], &["VOLFOG_INJECT_PARTICLES"]]),
+        ],
+        values: &[INJECT_NOISE_OCTAVES],
+        usage: "Entry point medium_shadow_fill. Dispatch size.x x size.y x 1 workgroups (one \
+                per column of the MediumShadow volume, 64 invocations along it) each \
+                frame before inject@INJECT_MEDIUM_SHADOW, with the defines of the medium \
+                that inject variant has (noise texture, octaves, density texture, custom \
+                density, particles) and the same FogFrame, FogMedium, local volumes, density \
+                texture, noise texture, FogCustomParams and particles at the same binding \
+                numbers. \
+                Binding 35 is an rgba16float 3D storage texture of MediumShadow.size \
+                texels (write), which inject then reads at its binding 35; binding 37 \
+                the MediumShadow uniform (160 bytes): a box aligned with the sun, around \
+                the view frustum up to the covered distance and reaching further towards \
+                the sun, its origin snapped to whole texels.",
         hooks: &[CUSTOM_DENSITY]
     ),
     pass!(

@@ -5,7 +5,7 @@ use glam::UVec3;
 use crate::limits::{self, InvalidValue};
 use crate::options::{EsmOptions, Filtering, InjectOptions, ScanStep, ShadowFilter};
 use crate::shaders::CustomModule;
-use crate::uniforms::ShadowCascades;
+use crate::uniforms::{MediumShadowConfig, ShadowCascades};
 
 /// Configuration of a [`VolumetricFog`](super::VolumetricFog). Every range is in
 /// [`crate::limits`].
@@ -117,9 +117,18 @@ pub struct FogConfig {
     /// top ([`FogMedium::top_height`](crate::uniforms::FogMedium::top_height)) in
     /// Wenzel's closed form, a point or spot light's by the profile along the segment
     /// to the light; the analytic tail's sun lobe likewise. The noise, the density
-    /// texture and local volumes are not on these paths (they shape the fog where it
-    /// is, not the light on its way). Off: light reaches every froxel as in clear air.
+    /// texture, the custom density and local volumes are on these paths only with
+    /// [`FogConfig::medium_shadows`]. Off: light reaches every froxel as in clear air.
     pub light_transmittance: bool,
+    /// Shadows the medium casts on itself (`VOLFOG_INJECT_MEDIUM_SHADOW`, see
+    /// `volfog::medium_shadow`): with [`FogConfig::light_transmittance`] the light of
+    /// the sun and of point, spot and directional lights is also dimmed by the noise,
+    /// the density texture, the custom density and the local volumes on its way, read
+    /// from a sun-aligned volume of the medium's excess extinction that the
+    /// `medium_shadow` pass fills each frame (a dense column casts a shaft of shadow
+    /// into thinner fog). Area lights, the analytic tail and the epipolar shafts keep
+    /// the height profile alone. `None` (the default): the height profile alone.
+    pub medium_shadows: Option<MediumShadowConfig>,
     /// Your own density: a WGSL module (naga_oil `#import`s, or WESL `import ...;`
     /// statements) that defines `fn volfog_custom_density(world: vec3<f32>, time: f32,
     /// params: FogCustomParams) -> FogSample` ([`crate::shaders::CUSTOM_DENSITY`]). The
@@ -210,6 +219,7 @@ impl Default for FogConfig {
             timestamps: false,
             local_shadows: Some(LocalShadowConfig::default()),
             light_transmittance: true,
+            medium_shadows: None,
             custom_density: None,
         }
     }
@@ -253,6 +263,16 @@ impl FogConfig {
             ShadowCascades::exponent_range(self.esm_log_space)
                 .check("LocalShadowConfig.exponent", l.exponent)?;
         }
+        if let Some(m) = &self.medium_shadows {
+            m.validate()?;
+            limits::check(
+                self.light_transmittance,
+                "FogConfig.medium_shadows",
+                m,
+                "None unless FogConfig.light_transmittance is true (the medium's shadows \
+                 extend the light's transmittance)",
+            )?;
+        }
         limits::check(
             !self.amortize || self.temporal,
             "FogConfig.amortize",
@@ -279,6 +299,7 @@ impl FogConfig {
             custom_density: self.custom_density.is_some(),
             area_lights: self.max_area_lights > 0,
             particles: self.max_particles > 0,
+            medium_shadow: self.medium_shadows.is_some() && self.light_transmittance,
         }
     }
 

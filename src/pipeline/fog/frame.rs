@@ -29,6 +29,10 @@ impl VolumetricFog {
             Some(local) => Some(local.plan(inputs.lights, inputs.shadowed_lights)?),
             None => None,
         };
+        let medium_shadow = match &self.medium_shadows {
+            Some(m) => Some(m.placement(&u)?),
+            None => None,
+        };
         let b = &self.buffers;
         queue.write_buffer(&b.froxels, 0, &u.froxels.to_bytes());
         queue.write_buffer(&b.frame, 0, &uniforms::to_uniform_bytes(&u.frame));
@@ -79,6 +83,9 @@ impl VolumetricFog {
                 0,
                 &uniforms::to_uniform_bytes(&inputs.custom_params),
             );
+        }
+        if let (Some(m), Some(placement)) = (&self.medium_shadows, &medium_shadow) {
+            m.write(queue, placement);
         }
         if !inputs.local_volumes.is_empty() {
             queue.write_buffer(
@@ -132,7 +139,7 @@ impl VolumetricFog {
     }
 
     /// Records depth culling, ESM downsample -> blur, the local-light shadow atlas,
-    /// inject -> temporal -> scan for the prepared frame (the scan adds the frame's
+    /// the medium's shadows, inject -> temporal -> scan for the prepared frame (the scan adds the frame's
     /// transient lights, if any).
     pub fn encode(&self, encoder: &mut wgpu::CommandEncoder) -> Result<(), FogError> {
         for pass in FogPass::ALL {
@@ -161,6 +168,7 @@ impl VolumetricFog {
             FogPass::Scan => "volfog scan",
             FogPass::Cull => "volfog froxel_cull",
             FogPass::LocalShadows => "volfog local shadows",
+            FogPass::MediumShadow => "volfog medium_shadow",
         };
         // With culling, inject and temporal run over the listed live blocks.
         let indirect = self.culling.as_ref().map(|c| &c.blocks.dispatch);
@@ -178,6 +186,7 @@ impl VolumetricFog {
             FogPass::Inject | FogPass::Scan => true,
             FogPass::Cull => cull.is_some(),
             FogPass::LocalShadows => self.local_shadows.as_ref().is_some_and(|l| l.runs()),
+            FogPass::MediumShadow => self.medium_shadows.is_some(),
         };
         if !runs {
             return Ok(());
@@ -236,6 +245,10 @@ impl VolumetricFog {
             FogPass::LocalShadows => {
                 let local = self.local_shadows.as_ref().expect("checked above");
                 local.encode(&mut compute, &self.esm);
+            }
+            FogPass::MediumShadow => {
+                let medium = self.medium_shadows.as_ref().expect("checked above");
+                medium.encode(&mut compute);
             }
         }
         Ok(())

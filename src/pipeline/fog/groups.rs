@@ -3,6 +3,7 @@
 
 use super::buffers::Buffers;
 use super::local_shadows::LocalShadows;
+use super::medium_shadows::MediumShadows;
 use super::textures::{CloudShadow, Culling, Density, Noise, Temporal};
 use super::{FogError, VolumetricFog, array_view, view};
 use crate::pipeline::esm::EsmPasses;
@@ -21,6 +22,14 @@ impl VolumetricFog {
     }
 
     pub(super) fn rebuild_inject_groups(&mut self, device: &wgpu::Device) {
+        if let Some(m) = self.medium_shadows.as_mut() {
+            m.rebuild_group(
+                device,
+                &self.buffers,
+                self.density.as_ref(),
+                self.noise.as_ref(),
+            );
+        }
         let scattering = view(&self.scattering);
         let fused = self
             .temporal
@@ -46,6 +55,7 @@ impl VolumetricFog {
                         local_shadows: self.local_shadows.as_ref(),
                         scene_depth: Some(&scene_depth),
                         temporal,
+                        medium_shadow: self.medium_shadows.as_ref(),
                     },
                 )
             })
@@ -200,6 +210,8 @@ pub(super) struct InjectTextures<'a> {
     /// The scene depth culling reads, or a 1 x 1 placeholder (binding 32 of the
     /// compare filter's culling variant).
     pub(super) scene_depth: Option<&'a wgpu::TextureView>,
+    /// The medium's shadows (bindings 35 to 37 of the medium-shadow variant).
+    pub(super) medium_shadow: Option<&'a MediumShadows>,
 }
 
 /// The view inject reads the scene depth through: the depth culling's texture at its
@@ -249,6 +261,7 @@ pub(super) fn inject_bind_group(
         local_shadows,
         temporal,
         scene_depth,
+        medium_shadow,
     } = textures;
     let local_views = local_shadows.map(LocalShadows::views);
     let density_view = density.map(|d| view(&d.texture));
@@ -282,6 +295,7 @@ pub(super) fn inject_bind_group(
                 custom_params: Some(&buffers.custom_params),
                 area_lights: Some(&buffers.area_lights),
                 particles: Some(&buffers.particles),
+                medium_shadow: medium_shadow.map(|m| (&m.view, &m.sampler, &m.params)),
             },
         )
         .expect("the fog binds every texture its inject variant reads")

@@ -48,6 +48,7 @@ mod frame;
 mod groups;
 mod inputs;
 mod local_shadows;
+mod medium_shadows;
 mod resources;
 mod shared;
 mod stereo;
@@ -80,6 +81,7 @@ use groups::{
     temporal_groups,
 };
 use local_shadows::LocalShadows;
+use medium_shadows::MediumShadows;
 pub(crate) use resources::{
     array_view, check_cloud_map, check_density_texture, check_scene_depth, check_shadow_map,
     esm_texture, storage_buffer, texture_bytes, uniform_buffer, volume_texture,
@@ -117,6 +119,8 @@ pub struct VolumetricFog {
     noise: Option<Noise>,
     clouds: Option<CloudShadow>,
     local_shadows: Option<LocalShadows>,
+    /// The medium's shadows (`FogConfig::medium_shadows`).
+    medium_shadows: Option<MediumShadows>,
     /// Inject bind groups by frame parity (they differ in the live-slice texture).
     inject_groups: [wgpu::BindGroup; 2],
     scan_groups: [wgpu::BindGroup; 2],
@@ -279,6 +283,8 @@ impl VolumetricFog {
             sampler: crate::pipeline::clouds::cloud_map_sampler(device),
         });
         let local_shadows = LocalShadows::new(device, config)?;
+        let medium_shadows =
+            MediumShadows::new(device, config, &buffers, density.as_ref(), noise.as_ref())?;
         let fused = temporal.as_ref().filter(|_| config.fused_temporal());
         // No scene depth yet: the placeholder (its taps all count until one is set).
         let scene_depth = groups::scene_depth_view(culling.as_ref(), &esm_texture);
@@ -298,6 +304,7 @@ impl VolumetricFog {
                     local_shadows: local_shadows.as_ref(),
                     temporal,
                     scene_depth: Some(&scene_depth),
+                    medium_shadow: medium_shadows.as_ref(),
                 },
             )
         });
@@ -345,6 +352,7 @@ impl VolumetricFog {
             noise,
             clouds,
             local_shadows,
+            medium_shadows,
             inject_groups,
             scan_groups,
             transient_lights: 0,

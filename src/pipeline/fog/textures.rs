@@ -105,6 +105,13 @@ impl VolumetricFog {
             .unwrap_or_else(|| self.scattering_texture())
     }
 
+    /// The medium-shadow volume (`FogConfig::medium_shadows`): after `encode`, the
+    /// prepared frame's (rgba16float, r the optical depth, g the excess extinction; see
+    /// `volfog::medium_shadow`).
+    pub fn medium_shadow_texture(&self) -> Option<&wgpu::Texture> {
+        self.medium_shadows.as_ref().map(|m| &m.volume)
+    }
+
     /// The stabilised volume of the prepared frame (after `encode`), when temporal
     /// reprojection is on.
     pub fn stabilised_texture(&self) -> Option<&wgpu::Texture> {
@@ -147,7 +154,13 @@ impl VolumetricFog {
         if let Some(l) = &self.local_shadows {
             textures.extend(l.textures());
         }
+        if let Some(m) = &self.medium_shadows {
+            textures.push(&m.volume);
+        }
         let mut buffers: Vec<&wgpu::Buffer> = self.buffers.all().to_vec();
+        if let Some(m) = &self.medium_shadows {
+            buffers.push(&m.params);
+        }
         if let Some(c) = &self.culling {
             buffers.extend([&c.blocks.blocks, &c.blocks.dispatch]);
         }

@@ -15,6 +15,9 @@ pub struct PassTimings {
     /// The local-light shadow atlas: downsample and blur of the frame's shadowed point
     /// and spot lights.
     pub local_shadows: f64,
+    /// The medium's shadows (the `medium_shadow` pass; with
+    /// `FogConfig::medium_shadows`).
+    pub medium_shadow: f64,
     /// Inject.
     pub inject: f64,
     /// Temporal reprojection.
@@ -35,7 +38,8 @@ impl PassTimings {
             scan: ms[4],
             cull: ms[5],
             local_shadows: ms[6],
-            apply: ms[7],
+            medium_shadow: ms[7],
+            apply: ms[8],
         }
     }
 }
@@ -63,30 +67,34 @@ pub enum FogPass {
     /// The local-light shadow atlas (only when the frame has shadowed point or spot
     /// lights); recorded after the ESM blur.
     LocalShadows,
+    /// The medium-shadow volume (only with `FogConfig::medium_shadows`); recorded
+    /// before inject.
+    MediumShadow,
 }
 
 impl FogPass {
     /// Every pass, in order.
-    pub const ALL: [FogPass; 7] = [
+    pub const ALL: [FogPass; 8] = [
         FogPass::Cull,
         FogPass::EsmDownsample,
         FogPass::EsmBlur,
         FogPass::LocalShadows,
+        FogPass::MediumShadow,
         FogPass::Inject,
         FogPass::Temporal,
         FogPass::Scan,
     ];
 
-    /// Its timestamp pair (the apply pass is pair 7).
+    /// Its timestamp pair (the apply pass is pair 8).
     pub(crate) fn timestamp_pair(self) -> u32 {
         self as u32
     }
 }
 
-/// Timestamp pairs: the seven compute passes and the apply.
-pub(crate) const TIMESTAMP_PAIRS: u32 = 8;
+/// Timestamp pairs: the eight compute passes and the apply.
+pub(crate) const TIMESTAMP_PAIRS: u32 = 9;
 /// The timestamp pair of the apply pass.
-pub(crate) const APPLY_PAIR: u32 = 7;
+pub(crate) const APPLY_PAIR: u32 = 8;
 
 impl VolumetricFog {
     pub(super) fn timestamp_writes(

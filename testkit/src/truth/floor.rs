@@ -246,6 +246,7 @@ pub fn grid_floor(scene: &TruthScene, options: &VolfogOptions) -> Result<GridFlo
                 clouds: None,
                 local_shadows: None,
                 scene_depth: None,
+                medium_shadow: None,
             },
             id,
         )

@@ -460,6 +460,28 @@ pub fn local_volumes() -> TruthScene {
     finish(s)
 }
 
+/// Thin fog (0.02 / m, g 0.4) under a sun 25 degrees up ahead and a little to the
+/// right, and a dense column (a box 2.4 m x 12 m x 2.4 m of 1 / m, edge 0.1) standing
+/// on the ground 30 m ahead: its shadow, about exp(-2.4) of the sunlight, reaches back
+/// towards the camera through the fog and down to the ground 26 m closer, so the view
+/// looks along a dark shaft in the forward-scattered glow.
+pub fn shadow_column() -> TruthScene {
+    let mut s = scene(
+        "shadow_column",
+        camera(Vec3::new(0.0, 4.0, 0.0), 0.0, 25.0, 80.0),
+        medium(0.02, 0.0, 0.4, 25.0),
+    );
+    s.sun = Some(sun(25.0, 10.0, Vec3::new(3.0, 2.8, 2.5)));
+    s.volumes = vec![TruthVolume {
+        shape: TruthShape::Box,
+        center: Vec3::new(1.5, 6.0, -30.0),
+        half_extents: Vec3::new(1.2, 6.0, 1.2),
+        density: 1.0,
+        edge: 0.1,
+    }];
+    finish(s)
+}
+
 /// A 2 m x 1 m panel facing down, 6 m up and 12 m ahead, 2 m above the eye and out of
 /// view (its radiance 100 W / (m^2 sr), warm: 200 W / sr straight down, as
 /// point_light's lamp), in homogeneous fog 0.05 / m, g 0.3; no sun.
@@ -515,6 +537,7 @@ pub fn all() -> Vec<TruthScene> {
         local_volumes(),
         pillar_lamp(),
         spot_window(),
+        shadow_column(),
     ]
 }
 

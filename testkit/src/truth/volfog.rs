@@ -21,7 +21,8 @@ use volfog::limits::{self, InvalidValue, check};
 use volfog::options::ShadowFilter;
 use volfog::pipeline::{FogConfig, FogError, FrameInputs, ShadowedLight, VolumetricFog};
 use volfog::uniforms::{
-    DirectionalLight, FogLight, FogMedium, HeightFog, LocalVolume, ShadowCascades, VolumeShape,
+    DirectionalLight, FogLight, FogMedium, HeightFog, LocalVolume, MediumShadowConfig,
+    ShadowCascades, VolumeShape,
 };
 
 use super::scene::{TruthImage, TruthScene, TruthShape};
@@ -123,11 +124,16 @@ impl VolfogOptions {
 impl Default for VolfogOptions {
     /// `FogConfig::default()` (160 x 90 x 128 froxels, the compare shadow filter,
     /// jitter, temporal blending at history weight 0.9, light transmittance, shadowed
-    /// lamps), [`CONVERGED_FRAMES`] frames, lamp maps [`LAMP_MAP_FACTOR`] times the
-    /// atlas.
+    /// lamps) with the medium's shadows at `MediumShadowConfig::default()` (they change
+    /// nothing where the medium is its bare height profile, as in the scenes without
+    /// local volumes), [`CONVERGED_FRAMES`] frames, lamp maps [`LAMP_MAP_FACTOR`] times
+    /// the atlas.
     fn default() -> Self {
         Self {
-            config: FogConfig::default(),
+            config: FogConfig {
+                medium_shadows: Some(MediumShadowConfig::default()),
+                ..FogConfig::default()
+            },
             frames: CONVERGED_FRAMES,
             lamp_map_factor: LAMP_MAP_FACTOR,
         }

@@ -90,6 +90,7 @@ fn mirror_errors(
                 clouds: None,
                 local_shadows: None,
                 scene_depth: None,
+                medium_shadow: None,
             };
             let mut worst = 0.0f32;
             for z in 0..size.z {

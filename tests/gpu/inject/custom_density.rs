@@ -315,6 +315,7 @@ fn the_custom_density_matches_the_cpu_mirror() {
         clouds: None,
         local_shadows: None,
         scene_depth: None,
+        medium_shadow: None,
     };
     let custom = CustomMedium {
         density: &gaussian,

@@ -141,6 +141,7 @@ fn squared_spot_cones_and_directional_lights_match_the_cpu_mirror() {
         clouds: None,
         local_shadows: None,
         scene_depth: None,
+        medium_shadow: None,
     };
     let size = config.volume_size;
     let froxel = |i: usize| {

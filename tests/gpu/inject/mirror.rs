@@ -90,6 +90,7 @@ fn inject_matches_cpu_mirror_for_a_full_scene() {
             clouds: None,
             local_shadows: None,
             scene_depth: None,
+            medium_shadow: None,
         };
         let size = config.volume_size;
         let mut worst = 0.0f32;
@@ -186,6 +187,7 @@ fn density_texture_variant_matches_cpu_mirror() {
         clouds: None,
         local_shadows: None,
         scene_depth: None,
+        medium_shadow: None,
     };
     let s = config.volume_size;
     let (mut worst, mut lo, mut hi) = (0.0f32, f32::MAX, 0.0f32);

@@ -117,6 +117,7 @@ fn textured_local_volumes_match_the_cpu_mirror_and_a_constant_texture_scales_the
         clouds: None,
         local_shadows: None,
         scene_depth: None,
+        medium_shadow: None,
     };
     let s = config.volume_size;
     let (mut worst, mut inside, mut lo, mut hi) = (0.0f32, 0usize, f32::MAX, 0.0f32);

@@ -455,6 +455,7 @@ pub(super) fn cpu_volume(
             cookies,
         }),
         scene_depth: None,
+        medium_shadow: None,
     };
     let size = config.volume_size;
     let mut out = vec![Vec4::ZERO; (size.x * size.y * size.z) as usize];
