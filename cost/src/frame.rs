@@ -181,6 +181,8 @@ pub fn frame_passes(config: &FogConfig, work: &Workload) -> Vec<FramePass> {
     };
     let [x, y, _] = work.grid;
     let mut passes = Vec::new();
+    // Inject reads the medium-shadow volume, which Sizes does not know.
+    let medium_shadow_bytes = config.medium_shadows.map_or(0, |m| m.memory_bytes());
     let mut add = |name: &str,
                    ac4,
                    variant: RuntimeVariant,
@@ -196,7 +198,14 @@ pub fn frame_passes(config: &FogConfig, work: &Workload) -> Vec<FramePass> {
             invocations,
             culled,
             target: (0, 0),
-            binding_bytes: Vec::new(),
+            binding_bytes: if name == "inject" && medium_shadow_bytes > 0 {
+                vec![(
+                    crate::medium_shadow::MEDIUM_SHADOW_BINDING.to_string(),
+                    medium_shadow_bytes,
+                )]
+            } else {
+                Vec::new()
+            },
             trips: trips(t),
         })
     };
@@ -273,34 +282,6 @@ pub fn frame_passes(config: &FogConfig, work: &Workload) -> Vec<FramePass> {
         work.blocks.1
     };
     let taps = work.extra_shadow_taps;
-    passes.extend(crate::medium_shadow::medium_shadow_pass(config, work));
-    let medium_shadow_bytes = config.medium_shadows.map_or(0, |m| m.memory_bytes());
-    let mut add = |name: &str,
-                   ac4,
-                   variant: RuntimeVariant,
-                   entry: &str,
-                   invocations,
-                   culled,
-                   t: &[(&str, f64)]| {
-        passes.push(FramePass {
-            name: name.to_string(),
-            ac4,
-            variant,
-            entry: entry.to_string(),
-            invocations,
-            culled,
-            target: (0, 0),
-            binding_bytes: if name == "inject" && medium_shadow_bytes > 0 {
-                vec![(
-                    crate::medium_shadow::MEDIUM_SHADOW_BINDING.to_string(),
-                    medium_shadow_bytes,
-                )]
-            } else {
-                Vec::new()
-            },
-            trips: trips(t),
-        })
-    };
     add(
         "inject",
         Some("inject"),
@@ -378,6 +359,14 @@ pub fn frame_passes(config: &FogConfig, work: &Workload) -> Vec<FramePass> {
         binding_bytes: Vec::new(),
         trips: Vec::new(),
     });
+    // The medium's shadows run just before inject.
+    if let Some(pass) = crate::medium_shadow::medium_shadow_pass(config, work) {
+        let at = passes
+            .iter()
+            .position(|p| p.name == "inject")
+            .expect("every frame injects");
+        passes.insert(at, pass);
+    }
     passes
 }
 

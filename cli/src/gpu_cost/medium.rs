@@ -7,9 +7,9 @@ use std::fmt::Write as _;
 
 use serde::Serialize;
 use volfog_cost::Chip;
-use volfog_cost::measure::{Measured, PassModel, model_pass};
+use volfog_cost::measure::{Measured, PassModel};
 
-use super::{FrameModel, FramePlan, GpuCostError, SCREEN};
+use super::{FrameModel, FramePlan, GpuCostError};
 
 /// The bench frame with the medium's shadows on a GPU model.
 #[derive(Debug, Clone, Serialize)]
@@ -37,20 +37,7 @@ pub(super) fn models<'a>(
 ) -> Result<Vec<MediumShadowModel>, GpuCostError> {
     let mut out = Vec::new();
     for (p, plain) in plans.iter().zip(frames) {
-        let sizes = volfog_cost::floor::Sizes::new(&p.config, SCREEN, p.workload.live_fraction);
-        let passes: Vec<PassModel> = p
-            .passes
-            .iter()
-            .map(|(pass, shader)| {
-                model_pass(
-                    find(p.gpu.chip, &shader.label),
-                    shader,
-                    pass,
-                    &p.gpu,
-                    &sizes,
-                )
-            })
-            .collect::<Result<_, _>>()?;
+        let passes = super::model_passes(p, &find)?;
         let named = |name: &str| {
             passes
                 .iter()

@@ -283,6 +283,26 @@ pub fn pipelines(
     Ok(out)
 }
 
+/// The models of a frame plan's passes (its raymarch and floors aside).
+fn model_passes<'a>(
+    p: &FramePlan,
+    find: impl Fn(Chip, &str) -> &'a Measured,
+) -> Result<Vec<PassModel>, CostError> {
+    let sizes = volfog_cost::floor::Sizes::new(&p.config, SCREEN, p.workload.live_fraction);
+    p.passes
+        .iter()
+        .map(|(pass, shader)| {
+            model_pass(
+                find(p.gpu.chip, &shader.label),
+                shader,
+                pass,
+                &p.gpu,
+                &sizes,
+            )
+        })
+        .collect()
+}
+
 /// The frame of `config` on `gpu`: its passes, the raymarch and the floors, with the
 /// shaders each needs.
 struct FramePlan {
@@ -453,20 +473,7 @@ pub fn run(args: &GpuCostArgs, worker: &Worker) -> Result<Report, GpuCostError> 
     }
     let mut filters = Vec::new();
     for p in &filter_plans {
-        let sizes = volfog_cost::floor::Sizes::new(&p.config, SCREEN, p.workload.live_fraction);
-        let passes: Vec<PassModel> = p
-            .passes
-            .iter()
-            .map(|(pass, shader)| {
-                model_pass(
-                    find(p.gpu.chip, &shader.label),
-                    shader,
-                    pass,
-                    &p.gpu,
-                    &sizes,
-                )
-            })
-            .collect::<Result<_, _>>()?;
+        let passes = model_passes(p, find)?;
         filters.push(FilterModel {
             gpu: p.gpu.name,
             filter: format!("{:?}", p.config.shadow_filter),
