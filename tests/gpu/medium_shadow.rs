@@ -403,5 +403,13 @@ fn bad_settings_are_typed_errors() {
         ),
         "MediumShadowConfig.march_steps"
     );
-    assert_eq!(bad(good, false), "FogConfig.medium_shadows");
+    // Without light transmittance nothing dims the light: the medium's shadows are
+    // ignored, no pass runs.
+    let ignored = FogConfig {
+        medium_shadows: Some(good),
+        light_transmittance: false,
+        ..small_config()
+    };
+    let fog = VolumetricFog::new(&gpu.device, &ignored).unwrap();
+    assert!(fog.medium_shadow_texture().is_none());
 }

@@ -123,10 +123,11 @@ pub struct FogConfig {
     /// Shadows the medium casts on itself (`VOLFOG_INJECT_MEDIUM_SHADOW`, see
     /// `volfog::medium_shadow`): with [`FogConfig::light_transmittance`] the light of
     /// the sun and of point, spot and directional lights is also dimmed by the noise,
-    /// the density texture, the custom density and the local volumes on its way, read
-    /// from a sun-aligned volume of the medium's excess extinction that the
-    /// `medium_shadow` pass fills each frame (a dense column casts a shaft of shadow
-    /// into thinner fog). Area lights, the analytic tail and the epipolar shafts keep
+    /// the density texture, the custom density, the local volumes and the particles on
+    /// its way, read from a sun-aligned volume of the medium's excess extinction that
+    /// the `medium_shadow` pass fills each frame (a dense column casts a shaft of
+    /// shadow into thinner fog). Without `light_transmittance` nothing dims the light
+    /// and this is ignored (no pass runs). Area lights, the analytic tail and the epipolar shafts keep
     /// the height profile alone. `None` (the default): the height profile alone.
     pub medium_shadows: Option<MediumShadowConfig>,
     /// Your own density: a WGSL module (naga_oil `#import`s, or WESL `import ...;`
@@ -265,13 +266,6 @@ impl FogConfig {
         }
         if let Some(m) = &self.medium_shadows {
             m.validate()?;
-            limits::check(
-                self.light_transmittance,
-                "FogConfig.medium_shadows",
-                m,
-                "None unless FogConfig.light_transmittance is true (the medium's shadows \
-                 extend the light's transmittance)",
-            )?;
         }
         limits::check(
             !self.amortize || self.temporal,
