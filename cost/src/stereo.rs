@@ -1,19 +1,20 @@
 //! Stereo fog's frame (`volfog::pipeline::StereoFog`): the shared fog's passes once
 //! (the shadows, inject and, where it runs apart, temporal), over one volume aligned
-//! with a centre eye that encloses both eyes; then per eye the scan's
-//! `VOLFOG_SCAN_RESAMPLE` variant, which reads the shared volume trilinearly at each of
-//! the eye's froxel centres and writes the eye's integrated volume, and the eye's apply.
+//! with a centre eye that encloses both eyes; then the scan's `VOLFOG_SCAN_RESAMPLE`
+//! variant, one dispatch for both eyes, which reads the shared volume trilinearly at
+//! each of an eye's froxel centres and writes that eye's integrated volume; then each
+//! eye's apply.
 //! Stereo fog culls no froxels by depth and runs no transient lights, so its frame is
 //! that of its configuration with both off ([`stereo_config`]).
 
 use volfog::pipeline::FogConfig;
-use volfog::pipeline::scan::resample_defines;
+use volfog::pipeline::scan::{RESAMPLE_WORKGROUP_Y, WORKGROUP, resample_defines};
 
 use crate::frame::{FramePass, RuntimeVariant, frame_passes, runtime_variants};
 use crate::workload::Workload;
 
 /// When the runtime runs the resampling scan.
-pub const STEREO_WHEN: &str = "stereo fog (StereoFog): each eye's scan of the shared volume";
+pub const STEREO_WHEN: &str = "stereo fog (StereoFog): both eyes' scan of the shared volume";
 
 /// The eyes, in the order stereo fog records them.
 pub const EYES: [&str; 2] = ["left eye", "right eye"];
@@ -48,9 +49,12 @@ pub fn stereo_variants(config: &FogConfig) -> Vec<RuntimeVariant> {
 
 /// The passes of one stereo frame of `config` over `shared_work` (the frame as the
 /// shared volume sees it, from the centre eye, without culling): the shared passes in
-/// the order the runtime records them, then each eye's resampling scan, then each
-/// eye's apply. The scans' shared volume (binding `scattering`) is sized explicitly:
-/// one whole volume of `config.volume_size`, which both eyes' froxels cover.
+/// the order the runtime records them, then the resampling scan of both eyes, then
+/// each eye's apply. The scan's textures are sized explicitly, each one whole volume of
+/// `config.volume_size`: the shared volume (binding `scattering`), which both eyes'
+/// froxels cover and whose texels a wave's two eyes read together (one fetch from
+/// memory), and the eyes' integrated volumes (`integrated`, `right_integrated`). Its
+/// invocations are its dispatch's: workgroups of 8 x 4 columns x 2 eyes.
 pub fn stereo_frame_passes(config: &FogConfig, shared_work: &Workload) -> Vec<FramePass> {
     let config = stereo_config(config);
     let all = frame_passes(&config, shared_work);
@@ -69,15 +73,18 @@ pub fn stereo_frame_passes(config: &FogConfig, shared_work: &Workload) -> Vec<Fr
         .iter()
         .find(|p| p.name == "apply")
         .expect("every frame applies");
-    for eye in EYES {
-        let mut s = scan.clone();
-        s.name = format!("scan, {eye}");
-        s.ac4 = None;
-        s.variant = resample_variant(&config);
-        s.culled = false;
-        s.binding_bytes = vec![("scattering".to_string(), volume)];
-        passes.push(s);
-    }
+    let mut s = scan.clone();
+    s.name = "scan, both eyes".to_string();
+    s.ac4 = None;
+    s.variant = resample_variant(&config);
+    s.culled = false;
+    s.invocations = f64::from(v.x.div_ceil(WORKGROUP) * WORKGROUP)
+        * f64::from(v.y.div_ceil(RESAMPLE_WORKGROUP_Y) * RESAMPLE_WORKGROUP_Y)
+        * 2.0;
+    s.binding_bytes = ["scattering", "integrated", "right_integrated"]
+        .map(|name| (name.to_string(), volume))
+        .to_vec();
+    passes.push(s);
     for eye in EYES {
         let mut a = apply.clone();
         a.name = format!("apply, {eye}");
@@ -94,7 +101,7 @@ mod tests {
 
     /// Every loop of the resampling scan, counted through its calls, has a trip count
     /// in [`stereo_frame_passes`]; the frame runs the shared passes once and the scan
-    /// and apply per eye.
+    /// of both eyes once and the apply per eye.
     #[test]
     fn every_loop_of_the_resampling_scan_has_a_trip_count() {
         let projection = glam::camera::rh::proj::directx::perspective(1.0, 16.0 / 9.0, 0.1, 100.0);
@@ -123,8 +130,7 @@ mod tests {
             names,
             [
                 "inject",
-                "scan, left eye",
-                "scan, right eye",
+                "scan, both eyes",
                 "apply, left eye",
                 "apply, right eye"
             ]
@@ -132,17 +138,36 @@ mod tests {
         let scan = &passes[1];
         assert!(scan.variant.name().contains("SCAN_RESAMPLE"));
         assert!(!scan.culled);
-        // The shared volume has the configuration's grid.
+        // The shared volume and both eyes' volumes have the configuration's grid, and
+        // they are every texture the scan touches: each is read or written once.
+        let volume = 160 * 90 * 128 * 8;
         assert_eq!(
             scan.binding_bytes,
-            [("scattering".to_string(), 160 * 90 * 128 * 8)]
+            ["scattering", "integrated", "right_integrated"].map(|n| (n.to_string(), volume))
         );
+        let module = volfog::shaders::compose("scan", &scan.variant.defines).unwrap();
+        let moved = crate::floor::traffic(
+            &module,
+            &["scan"],
+            &|name| {
+                scan.binding_bytes
+                    .iter()
+                    .find(|(n, _)| n == name)
+                    .map_or(0, |(_, b)| *b)
+            },
+            (0, 0),
+        );
+        assert_eq!(
+            (moved.bytes_read, moved.bytes_written),
+            (volume, 2 * volume)
+        );
+        // Workgroups of 8 x 4 columns for both eyes: 160 x 92 columns, twice.
+        assert_eq!(scan.invocations, 160.0 * 92.0 * 2.0);
         assert!(
             stereo_variants(&config)
                 .iter()
                 .any(|v| v.name() == scan.variant.name())
         );
-        let module = volfog::shaders::compose("scan", &scan.variant.defines).unwrap();
         for l in &loops(&module, "scan").unwrap() {
             assert!(
                 scan.trips

@@ -1,6 +1,8 @@
 // Pass scan — integrates every froxel column of the scattering volume front to back.
 //
-// Dispatch: ceil(size.x / 8) x ceil(size.y / 8) x 1 workgroups of 8 x 8.
+// Dispatch: ceil(size.x / 8) x ceil(size.y / 8) x 1 workgroups of 8 x 8; under
+//   VOLFOG_SCAN_RESAMPLE ceil(size.x / 8) x ceil(size.y / 4) x 1 workgroups of 8 x 4 x 2
+//   (invocation z is the eye: both eyes in one dispatch).
 // Bindings (group 0):
 //   0  uniform Froxels
 //   1  texture_3d<f32>: scattering volume, rgb = sigma_s * L_in, a = sigma_t (read with
@@ -12,10 +14,12 @@
 //      live slice (nothing reads them; they stay defined)
 //   4  uniform FogMedium; 5 uniform TransientLighting; 6 storage, read: array<FogLight>,
 //      the transient lights (4-6 VOLFOG_SCAN_TRANSIENT_LIGHTS only)
-//   VOLFOG_SCAN_RESAMPLE only: 5 uniform TransientLighting, the eye's camera position and
-//      column rays (its light count is not read); 7 sampler, filtering, clamp to edge;
-//      8 uniform FogFrame and 9 uniform Froxels of the shared volume (binding 1, sampled
-//      trilinearly: bound as filterable float)
+//   VOLFOG_SCAN_RESAMPLE only: bindings 0, 2, 3 are the left eye's; 5 uniform
+//      TransientLighting, the left eye's camera position and column rays (its light
+//      count is not read); 7 sampler, filtering, clamp to edge; 8 uniform FogFrame and
+//      9 uniform Froxels of the shared volume (binding 1, sampled trilinearly: bound as
+//      filterable float); 10 uniform Froxels, 11 integrated volume, 12 uniform
+//      TransientLighting and 13 live slices (VOLFOG_FROXEL_CULL only) of the right eye
 // Defines: VOLFOG_SCAN_WRONSKI_STEP (see volfog::scan), VOLFOG_FROXEL_CULL,
 //   VOLFOG_SCAN_TRANSIENT_LIGHTS: short-lived lights (a muzzle flash, a lightning
 //   strike) light this frame only. Each live froxel's scattering gains
@@ -25,11 +29,14 @@
 //   integrated. The scan reads the stabilised volume and writes the integrated one, so
 //   the history never holds these lights, and every froxel gets them whether or not
 //   inject amortises its work over two frames.
-//   VOLFOG_SCAN_RESAMPLE (not with VOLFOG_SCAN_TRANSIENT_LIGHTS): stereo fog. Binding 1
-//   is the volume shared by both eyes (volfog::stereo), aligned with the centre eye of
-//   bindings 8 and 9, and bindings 0 and 2 are this eye's: each froxel's scattering is
-//   read trilinearly at the world position of its centre (no jitter) on this eye's
-//   column ray, stereo_resample_uvw, then integrated along this eye's ray as above.
+//   VOLFOG_SCAN_RESAMPLE (not with VOLFOG_SCAN_TRANSIENT_LIGHTS): stereo fog, both eyes.
+//   Binding 1 is the volume shared by both eyes (volfog::stereo), aligned with the
+//   centre eye of bindings 8 and 9; each eye's froxel scattering is read trilinearly at
+//   the world position of its centre (no jitter) on that eye's column ray,
+//   stereo_resample_uvw, then integrated along that eye's ray as above into that eye's
+//   volume. A wave holds the same 8 x 4 columns of both eyes, which step through the
+//   slices together and read the same region of the shared volume, so the volume is
+//   fetched from memory once for both eyes rather than once per eye.
 // Reference: Wronski 2014, "Solving scattering equation" (RayMarchThroughVolume).
 
 #import volfog::types::Froxels
@@ -88,14 +95,55 @@ fn with_transient_lights(read: vec4<f32>, world: vec3<f32>, view_dir: vec3<f32>)
 }
 #endif
 #ifdef VOLFOG_SCAN_RESAMPLE
-@group(0) @binding(5) var<uniform> eye: TransientLighting;
+@group(0) @binding(5) var<uniform> left_eye: TransientLighting;
 @group(0) @binding(7) var shared_sampler: sampler;
 @group(0) @binding(8) var<uniform> shared_frame: FogFrame;
 @group(0) @binding(9) var<uniform> shared_froxels: Froxels;
+@group(0) @binding(10) var<uniform> right_froxels: Froxels;
+@group(0) @binding(11) var right_integrated: texture_storage_3d<rgba16float, write>;
+@group(0) @binding(12) var<uniform> right_eye: TransientLighting;
+#ifdef VOLFOG_FROXEL_CULL
+@group(0) @binding(13) var right_live_slices: texture_2d<u32>;
 #endif
 
+// The froxel placement of the eye (right: the right eye, else the left).
+fn eye_froxels(right: bool) -> Froxels {
+    if right {
+        return right_froxels;
+    }
+    return froxels;
+}
+
+// The camera position and column rays of the eye.
+fn eye_rays(right: bool) -> TransientLighting {
+    if right {
+        return right_eye;
+    }
+    return left_eye;
+}
+
+// Writes a texel of the eye's integrated volume.
+fn store_eye(right: bool, texel: vec3<u32>, value: vec4<f32>) {
+    if right {
+        textureStore(right_integrated, texel, value);
+    } else {
+        textureStore(integrated, texel, value);
+    }
+}
+#endif
+
+#ifdef VOLFOG_SCAN_RESAMPLE
+@compute @workgroup_size(8, 4, 2)
+#else
 @compute @workgroup_size(8, 8, 1)
+#endif
 fn scan(@builtin(global_invocation_id) id: vec3<u32>) {
+#ifdef VOLFOG_SCAN_RESAMPLE
+    // Invocation z is the eye (one workgroup in z): 0 left, 1 right.
+    let right = id.z == 1u;
+    let froxels = eye_froxels(right);
+    let eye = eye_rays(right);
+#endif
     if id.x >= froxels.size.x || id.y >= froxels.size.y {
         return;
     }
@@ -104,7 +152,12 @@ fn scan(@builtin(global_invocation_id) id: vec3<u32>) {
     let scale = ray_scale(uv, froxels.view_from_clip);
     let slices = froxels.size.z;
 #ifdef VOLFOG_FROXEL_CULL
+#ifdef VOLFOG_SCAN_RESAMPLE
+    let live_left = textureLoad(live_slices, id.xy, 0).r;
+    let live = min(select(live_left, textureLoad(right_live_slices, id.xy, 0).r, right), slices);
+#else
     let live = min(textureLoad(live_slices, id.xy, 0).r, slices);
+#endif
 #else
     let live = slices;
 #endif
@@ -147,13 +200,21 @@ fn scan(@builtin(global_invocation_id) id: vec3<u32>) {
 #endif
         acc = scan_step(acc, medium, (back - front) * scale);
         // Clamped to the largest finite rgba16float value so no texel becomes Inf.
+#ifdef VOLFOG_SCAN_RESAMPLE
+        store_eye(right, vec3<u32>(id.xy, k), min(acc, vec4<f32>(65504.0)));
+#else
         textureStore(integrated, vec3<u32>(id.xy, k), min(acc, vec4<f32>(65504.0)));
+#endif
         front = back;
     }
 #ifdef VOLFOG_FROXEL_CULL
     let held = min(acc, vec4<f32>(65504.0));
     for (var k = live; k < slices; k++) {
+#ifdef VOLFOG_SCAN_RESAMPLE
+        store_eye(right, vec3<u32>(id.xy, k), held);
+#else
         textureStore(integrated, vec3<u32>(id.xy, k), held);
+#endif
     }
 #endif
 }

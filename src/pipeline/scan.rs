@@ -1,8 +1,8 @@
 //! The scan pass: integrates the scattering volume front to back into the
 //! integrated volume (`shaders/passes/scan.wgsl`), its variant that adds the frame's
 //! transient lights on the way (`VOLFOG_SCAN_TRANSIENT_LIGHTS`), and stereo fog's scan
-//! of one eye, which reads the volume both eyes share at its own froxels' centres
-//! (`VOLFOG_SCAN_RESAMPLE`, `volfog::stereo`).
+//! of both eyes in one dispatch, each reading the volume both eyes share at its own
+//! froxels' centres (`VOLFOG_SCAN_RESAMPLE`, `volfog::stereo`).
 
 use super::{
     bind_group, bind_group_layout, compute_pipeline, sampler_entry, shader_module,
@@ -15,13 +15,17 @@ use crate::shaders::CodegenError;
 /// Workgroup size of the scan (x, y).
 pub const WORKGROUP: u32 = 8;
 
+/// Workgroup size in y of the resampling variant, whose workgroups are
+/// `WORKGROUP x RESAMPLE_WORKGROUP_Y x 2` (z the eye).
+pub const RESAMPLE_WORKGROUP_Y: u32 = 4;
+
 /// The define of the scan variant that adds the frame's transient lights.
 pub const TRANSIENT_LIGHTS_DEFINE: &str = "VOLFOG_SCAN_TRANSIENT_LIGHTS";
 
-/// The define of stereo fog's scan of one eye over the shared volume.
+/// The define of stereo fog's scan of both eyes over the shared volume.
 pub const RESAMPLE_DEFINE: &str = "VOLFOG_SCAN_RESAMPLE";
 
-/// The defines of stereo fog's scan of one eye for a step, with or without depth
+/// The defines of stereo fog's scan of both eyes for a step, with or without depth
 /// culling.
 pub fn resample_defines(step: ScanStep, cull: bool) -> Vec<String> {
     let mut defines = scan_defines(step, cull, false);
@@ -29,11 +33,25 @@ pub fn resample_defines(step: ScanStep, cull: bool) -> Vec<String> {
     defines
 }
 
-/// What the resampling variant reads besides the volumes (bindings 5, 7, 8 and 9).
+/// One eye's resources in the resampling variant (the left eye's at bindings 0, 2,
+/// 3 and 5, the right eye's at 10, 11, 13 and 12).
+#[derive(Debug, Clone, Copy)]
+pub struct ResampleEye<'a> {
+    /// The eye's `Froxels` uniform.
+    pub froxels: &'a wgpu::Buffer,
+    /// The eye's `TransientLighting` uniform: its camera position and column rays.
+    pub rays: &'a wgpu::Buffer,
+    /// The eye's integrated volume (3D rgba16float, written).
+    pub integrated: &'a wgpu::TextureView,
+    /// The eye's live-slice texture, required by the depth-culling variant (ignored
+    /// by the other).
+    pub live_slices: Option<&'a wgpu::TextureView>,
+}
+
+/// What the resampling variant reads besides the eyes' resources and the shared
+/// volume (bindings 7, 8 and 9).
 #[derive(Debug, Clone, Copy)]
 pub struct ResampleScanResources<'a> {
-    /// The eye's `TransientLighting` uniform: its camera position and column rays.
-    pub eye: &'a wgpu::Buffer,
     /// A filtering, clamp-to-edge sampler for the shared volume.
     pub sampler: &'a wgpu::Sampler,
     /// The shared volume's `FogFrame` uniform (its `clip_from_world`).
@@ -104,10 +122,12 @@ impl ScanPass {
         entries
     }
 
-    /// The bind group layout of the resampling variant: 0 the eye's `Froxels`, 1 the
-    /// shared volume (3D float, filterable), 2 the eye's integrated volume, with depth
-    /// culling 3 the eye's live-slice texture, 5 the eye's `TransientLighting`, 7 a
-    /// filtering sampler, 8 the shared volume's `FogFrame` and 9 its `Froxels`.
+    /// The bind group layout of the resampling variant: 0 the left eye's `Froxels`, 1
+    /// the shared volume (3D float, filterable), 2 the left eye's integrated volume,
+    /// with depth culling 3 the left eye's live-slice texture, 5 the left eye's
+    /// `TransientLighting`, 7 a filtering sampler, 8 the shared volume's `FogFrame`, 9
+    /// its `Froxels`, then the right eye's `Froxels` (10), integrated volume (11),
+    /// `TransientLighting` (12) and, with depth culling, live-slice texture (13).
     pub fn resample_layout_entries(cull: bool) -> Vec<wgpu::BindGroupLayoutEntry> {
         let c = wgpu::ShaderStages::COMPUTE;
         let mut entries = Self::layout_entries(cull, false);
@@ -119,7 +139,17 @@ impl ScanPass {
             sampler_entry(7, c, true),
             uniform_entry(8, c),
             uniform_entry(9, c),
+            uniform_entry(10, c),
+            storage_entry(
+                11,
+                wgpu::TextureViewDimension::D3,
+                wgpu::TextureFormat::Rgba16Float,
+            ),
+            uniform_entry(12, c),
         ]);
+        if cull {
+            entries.push(uint_texture_entry(13));
+        }
         entries
     }
 
@@ -138,7 +168,7 @@ impl ScanPass {
         Self::build(device, step, cull, true, false)
     }
 
-    /// Compiles stereo fog's scan of one eye over the shared volume
+    /// Compiles stereo fog's scan of both eyes over the shared volume
     /// (`VOLFOG_SCAN_RESAMPLE`).
     pub fn resampling(
         device: &wgpu::Device,
@@ -242,17 +272,15 @@ impl ScanPass {
         Ok(bind_group(device, "volfog scan", &self.layout, &resources))
     }
 
-    /// A bind group of the resampling variant: the eye's `froxels`, the `shared`
-    /// volume, the eye's `integrated` volume, its live slices (the culling variant
-    /// only) and the resources of [`ResampleScanResources`]. Errors on a pass that is
-    /// not the resampling variant.
+    /// A bind group of the resampling variant: the `shared` volume, both eyes'
+    /// resources (`eyes[0]` the left eye) and those of [`ResampleScanResources`].
+    /// Errors on a pass that is not the resampling variant, or on a missing live-slice
+    /// texture for the depth-culling variant.
     pub fn resample_bind_group(
         &self,
         device: &wgpu::Device,
-        froxels: &wgpu::Buffer,
         shared: &wgpu::TextureView,
-        integrated: &wgpu::TextureView,
-        live_slices: Option<&wgpu::TextureView>,
+        eyes: [ResampleEye<'_>; 2],
         r: ResampleScanResources<'_>,
     ) -> Result<wgpu::BindGroup, InvalidValue> {
         if !self.resample {
@@ -262,24 +290,42 @@ impl ScanPass {
                 expected: "the pass of ScanPass::resampling".into(),
             });
         }
+        let [left, right] = eyes;
         let mut resources = vec![
-            (0, froxels.as_entire_binding()),
+            (0, left.froxels.as_entire_binding()),
             (1, wgpu::BindingResource::TextureView(shared)),
-            (2, wgpu::BindingResource::TextureView(integrated)),
-            (5, r.eye.as_entire_binding()),
+            (2, wgpu::BindingResource::TextureView(left.integrated)),
+            (5, left.rays.as_entire_binding()),
             (7, wgpu::BindingResource::Sampler(r.sampler)),
             (8, r.shared_frame.as_entire_binding()),
             (9, r.shared_froxels.as_entire_binding()),
+            (10, right.froxels.as_entire_binding()),
+            (11, wgpu::BindingResource::TextureView(right.integrated)),
+            (12, right.rays.as_entire_binding()),
         ];
         if self.cull {
-            let Some(live) = live_slices else {
-                return Err(InvalidValue {
-                    field: "ScanPass::resample_bind_group live_slices",
-                    value: "None".to_string(),
-                    expected: "the live-slice texture for the depth-culling variant".into(),
-                });
-            };
-            resources.push((3, wgpu::BindingResource::TextureView(live)));
+            for (binding, eye, field) in [
+                (
+                    3,
+                    &left,
+                    "ScanPass::resample_bind_group eyes[0].live_slices",
+                ),
+                (
+                    13,
+                    &right,
+                    "ScanPass::resample_bind_group eyes[1].live_slices",
+                ),
+            ] {
+                let Some(live) = eye.live_slices else {
+                    return Err(InvalidValue {
+                        field,
+                        value: "None".to_string(),
+                        expected: "the eye's live-slice texture for the depth-culling variant"
+                            .into(),
+                    });
+                };
+                resources.push((binding, wgpu::BindingResource::TextureView(live)));
+            }
         }
         Ok(bind_group(
             device,
@@ -289,7 +335,8 @@ impl ScanPass {
         ))
     }
 
-    /// Records the scan of a volume of `size` froxels (x, y).
+    /// Records the scan of a volume of `size` froxels (x, y); the resampling variant
+    /// scans both eyes' volumes of that size.
     pub fn encode(
         &self,
         pass: &mut wgpu::ComputePass<'_>,
@@ -298,6 +345,11 @@ impl ScanPass {
     ) {
         pass.set_pipeline(&self.pipeline);
         pass.set_bind_group(0, bind_group, &[]);
-        pass.dispatch_workgroups(size[0].div_ceil(WORKGROUP), size[1].div_ceil(WORKGROUP), 1);
+        let rows = if self.resample {
+            RESAMPLE_WORKGROUP_Y
+        } else {
+            WORKGROUP
+        };
+        pass.dispatch_workgroups(size[0].div_ceil(WORKGROUP), size[1].div_ceil(rows), 1);
     }
 }

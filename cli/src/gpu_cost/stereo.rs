@@ -1,7 +1,8 @@
 //! Stereo fog on the GPU models: the bench frame of `StereoFog` (the eyes of the bench's
 //! stereo comparison, 64 mm apart, each with a 1920x1080 view) against one mono view
 //! and two, on each model's grid. The shared passes run once over the centre eye's
-//! volume; each eye runs the scan's `VOLFOG_SCAN_RESAMPLE` variant and its apply.
+//! volume; the scan's `VOLFOG_SCAN_RESAMPLE` variant runs once for both eyes, then each
+//! eye's apply.
 //! Stereo fog culls no froxels by depth, so its mono reference is the same
 //! configuration without culling (as in the bench); the report's culled mono frame
 //! stands beside it.

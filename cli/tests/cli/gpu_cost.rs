@@ -436,9 +436,10 @@ fn gpu_cost_models_the_bench_frame_on_the_xbox_one() {
     );
     let extra = t.extra_ms();
     assert!(extra[0] >= 0.0 && extra[1] > extra[0], "{extra:?}");
-    // Stereo fog: the shared inject once, each eye's resampling scan and apply (every
-    // loop of the scan counted), against one mono view of the same configuration
-    // without culling; it costs more than one view and less than two.
+    // Stereo fog: the shared inject once, the resampling scan of both eyes once (every
+    // loop of the scan counted) and each eye's apply, against one mono view of the same
+    // configuration without culling; it costs more than one view and, as issue 42 asks,
+    // at most 1.6 of one (a model's figure, not a timing: the same Mesa gives the same).
     assert_eq!(report.stereo.len(), 1);
     let st = &report.stereo[0];
     assert_eq!((st.gpu, st.grid), ("Xbox One", [160, 90, 64]));
@@ -447,8 +448,7 @@ fn gpu_cost_models_the_bench_frame_on_the_xbox_one() {
         names,
         [
             "inject",
-            "scan, left eye",
-            "scan, right eye",
+            "scan, both eyes",
             "apply, left eye",
             "apply, right eye"
         ]
@@ -459,7 +459,7 @@ fn gpu_cost_models_the_bench_frame_on_the_xbox_one() {
     assert!((st.stereo_ms - sum(&st.stereo)).abs() < 1e-12);
     assert!((st.mono_ms - sum(&st.mono)).abs() < 1e-12);
     assert!(
-        st.stereo_ratio > 1.0 && st.stereo_ratio < st.two_mono_ratio,
+        st.stereo_ratio > 1.0 && st.stereo_ratio <= 1.6,
         "{} ms against {} ms",
         st.stereo_ms,
         st.mono_ms

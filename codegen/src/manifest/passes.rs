@@ -10,17 +10,21 @@ pub const PASSES: &[PassSource] = &[
         axes: &[Axis::Flag("VOLFOG_SCAN_WRONSKI_STEP"), Axis::Flag("VOLFOG_FROXEL_CULL"),
             Axis::OneOf(&["VOLFOG_SCAN_TRANSIENT_LIGHTS", "VOLFOG_SCAN_RESAMPLE"])],
         values: &[],
-        usage: "Dispatch ceil(size.x / 8) x ceil(size.y / 8) x 1 workgroups after the \
+        usage: "Dispatch ceil(size.x / 8) x ceil(size.y / 8) x 1 workgroups (under \
+                VOLFOG_SCAN_RESAMPLE ceil(size.x / 8) x ceil(size.y / 4) x 1) after the \
                 scattering volume is written; the integrated volume is then read by apply. \
                 Under VOLFOG_FROXEL_CULL binding 3 is this frame's live-slice texture \
                 (froxel_cull), bound as uint. VOLFOG_SCAN_TRANSIENT_LIGHTS (frames with \
                 transient lights; binding 1 the stabilised volume): bindings 4, 5, 6 are \
                 FogMedium, TransientLighting and the transient FogLight buffer (>= 1). \
-                VOLFOG_SCAN_RESAMPLE (stereo: an eye's scan of the volume shared by both \
-                eyes): binding 0 is the eye's Froxels, 1 the shared stabilised volume \
-                bound as filterable float, 5 the eye's TransientLighting (its rays), 7 a \
+                VOLFOG_SCAN_RESAMPLE (stereo: both eyes' scans of the volume shared by \
+                both eyes, in one dispatch): bindings 0, 2, 3 are the left eye's Froxels, \
+                integrated volume and live slices, 1 the shared stabilised volume bound as \
+                filterable float, 5 the left eye's TransientLighting (its rays), 7 a \
                 filtering clamp-to-edge sampler, 8 the shared volume's FogFrame and 9 its \
-                Froxels; not with VOLFOG_SCAN_TRANSIENT_LIGHTS."
+                Froxels, 10, 11, 12 the right eye's Froxels, integrated volume and \
+                TransientLighting, 13 its live slices (VOLFOG_FROXEL_CULL); not with \
+                VOLFOG_SCAN_TRANSIENT_LIGHTS."
     ),
     pass!(
         "froxel_cull",

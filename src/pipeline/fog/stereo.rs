@@ -6,9 +6,9 @@
 //! with a centre eye whose frustum encloses both eyes' frusta
 //! ([`centre_eye`](crate::cpu::stereo::centre_eye): the eyes' orientation, the widest of
 //! their side planes, the apex just behind them). Each eye then has its own froxel
-//! volume: its scan (`VOLFOG_SCAN_RESAMPLE`) reads the shared volume trilinearly at the
-//! world position of each of its froxels' centres and integrates along the eye's own
-//! rays, and its apply reads its own integrated volume, so each eye sees the fog where
+//! volume: the scan (`VOLFOG_SCAN_RESAMPLE`, one dispatch for both eyes) reads the
+//! shared volume trilinearly at the world position of each of the eye's froxels'
+//! centres and integrates along the eye's own rays, and each eye's apply reads its own integrated volume, so each eye sees the fog where
 //! its camera puts it. Both eyes share the temporal history and so its jitter sequence:
 //! they converge alike.
 //!
@@ -40,7 +40,7 @@ use super::{FogConfig, FogError, FogPass, FrameInputs, VolumetricFog, uniform_bu
 use crate::cpu::stereo::{CentreEye, StereoEye, centre_eye};
 use crate::limits::{InvalidValue, check};
 use crate::pipeline::apply::{ApplyPipeline, FogResources, Tail, fog_bind_group, fog_sampler};
-use crate::pipeline::scan::{ResampleScanResources, ScanPass};
+use crate::pipeline::scan::{ResampleEye, ResampleScanResources, ScanPass};
 use crate::uniforms::{self, FogView, Froxels, HeightFog, TransientLighting};
 
 /// One eye's volume and the uniforms its scan and apply read.
@@ -51,9 +51,7 @@ struct EyeVolume {
     tail: wgpu::Buffer,
     rays: wgpu::Buffer,
     integrated: wgpu::Texture,
-    /// Scan bind groups by frame parity (they read the shared stabilised volume of
-    /// that parity).
-    scan_groups: [wgpu::BindGroup; 2],
+    integrated_view: wgpu::TextureView,
     fog_group: wgpu::BindGroup,
     tail_kind: Tail,
 }
@@ -66,6 +64,9 @@ pub struct StereoFog {
     shared: VolumetricFog,
     scan: ScanPass,
     eyes: [EyeVolume; 2],
+    /// The scan's bind groups (both eyes) by frame parity: they read the shared
+    /// stabilised volume of that parity.
+    scan_groups: [wgpu::BindGroup; 2],
     centre: Option<CentreEye>,
 }
 
@@ -103,22 +104,6 @@ impl StereoFog {
                 config.volume_size,
             );
             let integrated_view = view(&integrated);
-            let scan_groups = [0, 1].map(|p| {
-                scan.resample_bind_group(
-                    device,
-                    &froxels,
-                    &shared.stabilised_view(p),
-                    &integrated_view,
-                    None,
-                    ResampleScanResources {
-                        eye: &rays,
-                        sampler: &sampler,
-                        shared_frame: &shared.buffers.frame,
-                        shared_froxels: &shared.buffers.froxels,
-                    },
-                )
-                .expect("the resampling scan without culling")
-            });
             let fog_group = fog_bind_group(
                 device,
                 &shared.fog_layout,
@@ -137,16 +122,35 @@ impl StereoFog {
                 tail,
                 rays,
                 integrated,
-                scan_groups,
+                integrated_view,
                 fog_group,
                 tail_kind: Tail::Analytic,
             }
+        });
+        let scan_groups = [0, 1].map(|p| {
+            scan.resample_bind_group(
+                device,
+                &shared.stabilised_view(p),
+                [0, 1].map(|i| ResampleEye {
+                    froxels: &eyes[i].froxels,
+                    rays: &eyes[i].rays,
+                    integrated: &eyes[i].integrated_view,
+                    live_slices: None,
+                }),
+                ResampleScanResources {
+                    sampler: &sampler,
+                    shared_frame: &shared.buffers.frame,
+                    shared_froxels: &shared.buffers.froxels,
+                },
+            )
+            .expect("the resampling scan without culling")
         });
         Ok(Self {
             config: config.clone(),
             shared,
             scan,
             eyes,
+            scan_groups,
             centre: None,
         })
     }
@@ -249,10 +253,8 @@ impl StereoFog {
             label: Some("volfog stereo scan"),
             timestamp_writes: None,
         });
-        for eye in &self.eyes {
-            self.scan
-                .encode(&mut compute, &eye.scan_groups[parity], [size.x, size.y]);
-        }
+        self.scan
+            .encode(&mut compute, &self.scan_groups[parity], [size.x, size.y]);
         Ok(())
     }
 
