@@ -40,11 +40,15 @@ fn wasm_bindgen() -> PathBuf {
         .map(|o| String::from_utf8_lossy(&o.stdout).into_owned())
         .unwrap_or_default();
     if !version.contains(WASM_BINDGEN) {
+        // Optimised at level 1, not 3: it compiles in about 70 % of the time, writes the
+        // same glue and wasm byte for byte, and takes 0.65 s rather than 0.58 s on the
+        // page's module.
         run(cargo()
             .args(["install", "wasm-bindgen-cli", "--force", "--version"])
             .arg(format!("={WASM_BINDGEN}"))
             .arg("--root")
-            .arg(&tools));
+            .arg(&tools)
+            .env("CARGO_PROFILE_RELEASE_OPT_LEVEL", "1"));
     }
     bin
 }
