@@ -620,3 +620,54 @@ fn report_reference_scenes() {
     }
     println!("total {:.1} s", total.elapsed().as_secs_f64());
 }
+
+/// The references committed under `tests/truth-references` are exactly the renders the
+/// truth suites compare with (`truth::report::Reference::render` of every scene of
+/// `scenes::all` and `scenes::area_lights` at `truth::report::SPP`), each of the
+/// scene's size: a clean checkout compares without rendering them, and no render
+/// that nothing reads is kept.
+#[test]
+fn committed_references_are_the_suites_renders() {
+    use volfog_testkit::truth::{report, scenes, stored};
+    let options = MitsubaOptions {
+        spp: report::SPP,
+        ..MitsubaOptions::default()
+    };
+    let mut wanted = std::collections::BTreeMap::new();
+    for s in scenes::all().into_iter().chain(scenes::area_lights()) {
+        for key in expect(mitsuba::reference_keys(&s, &options)) {
+            wanted.insert(key, s.clone());
+        }
+    }
+    let committed = stored::committed_keys();
+    let missing: std::collections::BTreeSet<&str> = wanted
+        .iter()
+        .filter(|(k, _)| !committed.contains(k))
+        .map(|(_, s)| s.name.as_str())
+        .collect();
+    let stale: Vec<&String> = committed
+        .iter()
+        .filter(|k| !wanted.contains_key(*k))
+        .collect();
+    assert!(
+        missing.is_empty() && stale.is_empty(),
+        "{}: renders of {missing:?} are missing, {stale:?} are read by nothing. Write the \
+         missing ones with `{}=write cargo test -p volfog --test gpu truth` (they are read \
+         from target/truth-cache when there, else rendered) and delete the stale files",
+        stored::REFERENCES,
+        stored::WRITE_REFERENCES,
+    );
+    for (key, scene) in &wanted {
+        let path = stored::references_dir().join(format!("{key}.bin"));
+        let bytes = std::fs::read(&path).unwrap();
+        let expected = (scene.resolution[0] * scene.resolution[1] * 12) as usize;
+        assert_eq!(bytes.len(), expected, "{}", path.display());
+        assert!(
+            bytes
+                .chunks_exact(4)
+                .all(|c| f32::from_le_bytes([c[0], c[1], c[2], c[3]]).is_finite()),
+            "{} holds a value that is not finite",
+            path.display()
+        );
+    }
+}

@@ -4,10 +4,12 @@
 //! installs Mitsuba), once for the radiance and once for the transmittance. The
 //! scene mapping is documented at the top of render.py.
 //!
-//! Renders are cached under `target/truth-cache/`, keyed by a SHA-256 of the scene's
-//! JSON, the samples per pixel, the seed, the mode, the bytes of render.py and the
-//! installed Mitsuba and Dr.Jit versions: a rerun of the tests on the same machine
-//! does not render again. `VOLFOG_TRUTH_CACHE=off` turns the cache off.
+//! Renders are kept under a key, a SHA-256 of the scene's JSON, the samples per pixel,
+//! the seed, the mode, the bytes of render.py and the installed Mitsuba and Dr.Jit
+//! versions: those of the scenes the truth suites compare with are committed with the
+//! repository, every other is cached under `target/truth-cache/`
+//! ([`super::stored`]), so that neither a clean checkout nor a rerun renders them
+//! again. `VOLFOG_TRUTH_CACHE=off` reads neither.
 
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -19,6 +21,7 @@ use glam::Vec3;
 use sha2::{Digest, Sha256};
 
 use super::scene::{TruthImage, TruthScene};
+use super::stored;
 
 /// The command that installs Mitsuba into the test tools' venv.
 pub const INSTALL_COMMAND: &str = "cargo xtask tools";
@@ -275,13 +278,6 @@ fn installed_versions(venv: &Path) -> Result<Vec<String>, MitsubaError> {
     Ok(found)
 }
 
-fn cache_dir() -> Option<PathBuf> {
-    match std::env::var("VOLFOG_TRUTH_CACHE") {
-        Ok(v) if v == "off" || v == "0" => None,
-        _ => Some(workspace().join("target/truth-cache")),
-    }
-}
-
 /// One render at a time in this process: Mitsuba already uses every core.
 static RENDERING: Mutex<()> = Mutex::new(());
 static TEMP_COUNTER: AtomicU64 = AtomicU64::new(0);
@@ -304,7 +300,27 @@ fn decode(scene: &TruthScene, bytes: &[u8]) -> Result<Vec<Vec3>, MitsubaError> {
         .collect())
 }
 
-fn run(scene: &TruthScene, mode: Mode, spp: u32, seed: u32) -> Result<Vec<Vec3>, MitsubaError> {
+/// The keys of the three renders [`super::report::Reference::render`] asks for with
+/// `options`: the radiance with `options.seed`, with the next seed, and the
+/// transmittance ([`super::stored`] keeps each under its key).
+pub fn reference_keys(
+    scene: &TruthScene,
+    options: &MitsubaOptions,
+) -> Result<[String; 3], MitsubaError> {
+    Ok([
+        key(scene, Mode::Radiance, options.spp, options.seed)?,
+        key(
+            scene,
+            Mode::Radiance,
+            options.spp,
+            options.seed.wrapping_add(1),
+        )?,
+        key(scene, Mode::Transmittance, TRANSMITTANCE_SPP, options.seed)?,
+    ])
+}
+
+/// The venv's Python, after checking the request.
+fn python(scene: &TruthScene, spp: u32) -> Result<PathBuf, MitsubaError> {
     let invalid = |reason: &str| MitsubaError::Invalid {
         scene: scene.name.clone(),
         reason: reason.to_string(),
@@ -315,19 +331,22 @@ fn run(scene: &TruthScene, mode: Mode, spp: u32, seed: u32) -> Result<Vec<Vec3>,
     if scene.resolution[0] == 0 || scene.resolution[1] == 0 {
         return Err(invalid("empty resolution"));
     }
-    let venv = tools_dir().join("venv");
-    let python = venv.join("bin/python3");
+    let python = tools_dir().join("venv").join("bin/python3");
     if !python.is_file() {
         return Err(MitsubaError::ToolMissing {
             detail: format!("{} is missing", python.display()),
         });
     }
-    let versions = installed_versions(&venv)?;
+    Ok(python)
+}
+
+/// The key a render is kept under: a SHA-256 of everything that decides its pixels.
+fn key(scene: &TruthScene, mode: Mode, spp: u32, seed: u32) -> Result<String, MitsubaError> {
+    let versions = installed_versions(&tools_dir().join("venv"))?;
     let script = script();
     let script_bytes =
         std::fs::read(&script).map_err(io(format!("reading {}", script.display())))?;
-    let json = serde_json::to_string(scene).map_err(|e| invalid(&e.to_string()))?;
-
+    let json = scene_json(scene)?;
     let mut hasher = Sha256::new();
     for part in [
         b"volfog-truth-1".as_slice(),
@@ -345,13 +364,24 @@ fn run(scene: &TruthScene, mode: Mode, spp: u32, seed: u32) -> Result<Vec<Vec3>,
     for b in hasher.finalize() {
         let _ = write!(key, "{b:02x}");
     }
-    let cached = cache_dir().map(|d| d.join(format!("{key}.bin")));
-    if let Some(path) = &cached
-        && let Ok(bytes) = std::fs::read(path)
-        && let Ok(values) = decode(scene, &bytes)
-    {
-        return Ok(values);
+    Ok(key)
+}
+
+fn scene_json(scene: &TruthScene) -> Result<String, MitsubaError> {
+    serde_json::to_string(scene).map_err(|e| MitsubaError::Invalid {
+        scene: scene.name.clone(),
+        reason: e.to_string(),
+    })
+}
+
+fn run(scene: &TruthScene, mode: Mode, spp: u32, seed: u32) -> Result<Vec<Vec3>, MitsubaError> {
+    let python = python(scene, spp)?;
+    let key = key(scene, mode, spp, seed)?;
+    if let Some(bytes) = stored::load(&key, |b| decode(scene, b).is_ok()) {
+        return decode(scene, &bytes);
     }
+    let script = script();
+    let json = scene_json(scene)?;
 
     let _guard = RENDERING.lock().unwrap_or_else(|e| e.into_inner());
     let stem = format!(
@@ -392,12 +422,6 @@ fn run(scene: &TruthScene, mode: Mode, spp: u32, seed: u32) -> Result<Vec<Vec3>,
     let bytes = std::fs::read(&out_path).map_err(io(format!("reading {}", out_path.display())))?;
     let _ = std::fs::remove_file(&out_path);
     let values = decode(scene, &bytes)?;
-    if let (Some(path), Some(dir)) = (&cached, cache_dir()) {
-        // A failed cache write only costs a later render.
-        let partial = dir.join(format!("{stem}.partial"));
-        if std::fs::create_dir_all(&dir).is_ok() && std::fs::write(&partial, &bytes).is_ok() {
-            let _ = std::fs::rename(&partial, path);
-        }
-    }
+    stored::keep(&key, &bytes);
     Ok(values)
 }

@@ -1,6 +1,7 @@
 //! Path-traced references for volfog's froxel fog: one scene description
 //! ([`scene::TruthScene`]), the scenes themselves ([`scenes`]) and Mitsuba 3's
-//! `volpath` integrator in single scattering as the reference renderer ([`mitsuba`]).
+//! `volpath` integrator in single scattering as the reference renderer ([`mitsuba`]),
+//! whose renders are kept by [`stored`].
 
 pub mod area;
 pub mod compare;
@@ -10,4 +11,5 @@ pub mod report;
 pub mod scene;
 pub mod scenes;
 pub mod shadow_maps;
+pub mod stored;
 pub mod volfog;
