@@ -11,7 +11,9 @@ use std::path::Path;
 use serde_json::Value;
 
 use crate::common::{entry_points, exported, manifest, scratch, vertex_of};
-use crate::tools::{dawn_check, dawn_results, gl_link, output, slang_check, text};
+use crate::tools::{
+    dawn_check, dawn_results, each_in_parallel, gl_link, output, slang_check, text,
+};
 
 pub(crate) fn slang(file: &Path, stage: &str, entry: &str) -> Result<(), String> {
     let o = output(
@@ -31,15 +33,17 @@ pub(crate) fn slang(file: &Path, stage: &str, entry: &str) -> Result<(), String>
 #[test]
 fn every_hlsl_export_compiles_in_slang() {
     let dir = exported();
-    let mut failed = Vec::new();
     let entries = entry_points();
-    for (variant, e) in &entries {
+    let failed: Vec<String> = each_in_parallel(&entries, |(variant, e)| {
         let file = dir.join(e["files"]["hlsl"].as_str().unwrap());
         let (stage, name) = (e["stage"].as_str().unwrap(), e["name"].as_str().unwrap());
-        if let Err(message) = slang(&file, stage, name) {
-            failed.push(format!("{variant}.{name}: {message}"));
-        }
-    }
+        slang(&file, stage, name)
+            .err()
+            .map(|message| format!("{variant}.{name}: {message}"))
+    })
+    .into_iter()
+    .flatten()
+    .collect();
     eprintln!(
         "hlsl x Slang (HLSL front end, sm_6_0, warnings as errors): {} passed, {} failed",
         entries.len() - failed.len(),
