@@ -220,9 +220,10 @@ pub fn add_all_modules(composer: &mut Composer) -> Result<(), CodegenError> {
     Ok(())
 }
 
-/// A validating composer holding every volfog module.
+/// A validating composer holding every volfog module, with the capabilities of
+/// [`validate`].
 pub fn composer() -> Result<Composer, CodegenError> {
-    let mut composer = Composer::default();
+    let mut composer = Composer::default().with_capabilities(CAPABILITIES);
     add_all_modules(&mut composer)?;
     Ok(composer)
 }
@@ -254,9 +255,16 @@ pub fn compose_pass(
         .map_err(|e| render(&e, composer))
 }
 
-/// Validates a module with every validation flag; `what` names it in the error.
+/// The capabilities modules are validated with: naga's defaults plus multiview.
+const CAPABILITIES: Capabilities = Capabilities::MULTISAMPLED_SHADING
+    .union(Capabilities::CUBE_ARRAY_TEXTURES)
+    .union(Capabilities::MULTIVIEW);
+
+/// Validates a module with every validation flag and the default capabilities plus
+/// multiview (`@builtin(view_index)`, which the multiview apply reads); `what` names it
+/// in the error.
 pub fn validate(module: &naga::Module, what: &str) -> Result<ModuleInfo, CodegenError> {
-    Validator::new(ValidationFlags::all(), Capabilities::default())
+    Validator::new(ValidationFlags::all(), CAPABILITIES)
         .validate(module)
         .map_err(|e| {
             let mut text = format!("{what}: validation failed: {e}");

@@ -113,9 +113,9 @@ pub struct EntryOutput {
     pub spirv: Vec<u32>,
     /// GLSL 450.
     pub glsl: String,
-    /// HLSL (SM 6.0).
+    /// HLSL (SM 6.0; SM 6.1 for an entry point that reads the view index).
     pub hlsl: String,
-    /// MSL 2.1.
+    /// MSL 2.1 (2.2 for an entry point that reads the view index).
     pub msl: String,
     /// Bindings, structs and workgroup size, for the manifest.
     pub reflection: EntryReflection,
@@ -240,6 +240,23 @@ pub fn compose_variant_with(
         .collect();
     crate::custom::with_custom_modules(&used, |composer| {
         generate(composer, pass, &defines, hlsl_samplers)
+    })
+}
+
+/// Whether the (single) entry point of `module` reads `@builtin(view_index)`.
+pub fn reads_view_index(module: &naga::Module) -> bool {
+    let view_index =
+        |b: &Option<naga::Binding>| *b == Some(naga::Binding::BuiltIn(naga::BuiltIn::ViewIndex));
+    module.entry_points.iter().any(|ep| {
+        ep.function.arguments.iter().any(|a| {
+            view_index(&a.binding)
+                || match &module.types[a.ty].inner {
+                    naga::TypeInner::Struct { members, .. } => {
+                        members.iter().any(|m| view_index(&m.binding))
+                    }
+                    _ => false,
+                }
+        })
     })
 }
 
@@ -385,7 +402,12 @@ fn write_hlsl(
             .or_insert(hlsl_target("t0", 200 + b.group)?);
     }
     let options = hlsl::Options {
-        shader_model: hlsl::ShaderModel::V6_0,
+        // SV_ViewID (the multiview apply) needs SM 6.1; everything else stays at 6.0.
+        shader_model: if reads_view_index(module) {
+            hlsl::ShaderModel::V6_1
+        } else {
+            hlsl::ShaderModel::V6_0
+        },
         binding_map,
         fake_missing_bindings: false,
         sampler_buffer_binding_map,
@@ -446,7 +468,12 @@ fn write_msl(
         },
     );
     let options = msl::Options {
-        lang_version: (2, 1),
+        // amplification_id (the multiview apply) needs MSL 2.2; everything else 2.1.
+        lang_version: if reads_view_index(module) {
+            (2, 2)
+        } else {
+            (2, 1)
+        },
         per_entry_point_map,
         fake_missing_bindings: false,
         zero_initialize_workgroup_memory: true,

@@ -2,8 +2,10 @@
 //! pass read, and the fullscreen apply pass (`shaders/passes/apply.wgsl` with the
 //! vertex shader of `shaders/passes/fullscreen.wgsl`).
 
+use std::num::NonZeroU32;
+
 use super::{
-    RenderPipelineDesc, bind_group, bind_group_layout, render_pipeline, shader_module,
+    RenderPipelineDesc, bind_group, bind_group_layout, render_pipeline_multiview, shader_module,
     texture_entry, uniform_entry,
 };
 use crate::options::{ApplyInput, Filtering};
@@ -34,6 +36,31 @@ pub fn fog_layout_entries(
     entries.push(uniform_entry(4, visibility));
     entries
 }
+
+/// The layout entries of the stereo fog group (`volfog::stereo_bindings`): the left
+/// eye at the bindings of [`fog_layout_entries`] (0 `Froxels`, 1 integrated volume,
+/// 2 the sampler shared by both eyes, absent with manual filtering, 3 `HeightFog` tail,
+/// 4 `FogView`), the right eye's at those numbers + 5 (5 `Froxels`, 6 integrated volume,
+/// 8 tail, 9 `FogView`; 7 is unused).
+pub fn stereo_fog_layout_entries(
+    filtering: Filtering,
+    visibility: wgpu::ShaderStages,
+) -> Vec<wgpu::BindGroupLayoutEntry> {
+    let mut entries = fog_layout_entries(filtering, visibility);
+    let right: Vec<_> = entries
+        .iter()
+        .filter(|e| !matches!(e.ty, wgpu::BindingType::Sampler(_)))
+        .map(|e| wgpu::BindGroupLayoutEntry {
+            binding: e.binding + RIGHT_EYE_OFFSET,
+            ..*e
+        })
+        .collect();
+    entries.extend(right);
+    entries
+}
+
+/// How far the right eye's bindings of the stereo fog group lie from the left eye's.
+pub const RIGHT_EYE_OFFSET: u32 = 5;
 
 /// The resources of a fog group.
 #[derive(Debug, Clone, Copy)]
@@ -108,6 +135,24 @@ pub fn depth_layout_entries() -> [wgpu::BindGroupLayoutEntry; 1] {
     )]
 }
 
+/// The layout entries of the multiview apply pass's group 1: binding 0, the eyes' scene
+/// depths (a 2D array, layer i the depth of view i, unfilterable float view of a depth
+/// texture).
+pub fn depth_array_layout_entries() -> [wgpu::BindGroupLayoutEntry; 1] {
+    [texture_entry(
+        0,
+        wgpu::ShaderStages::FRAGMENT,
+        wgpu::TextureViewDimension::D2Array,
+        false,
+    )]
+}
+
+/// The define of the multiview apply variant (stereo fog, both eyes in one draw).
+pub const MULTIVIEW_DEFINE: &str = "VOLFOG_APPLY_MULTIVIEW";
+
+/// The view mask of the multiview apply: layers 0 (left eye) and 1 (right eye).
+pub const STEREO_VIEW_MASK: NonZeroU32 = NonZeroU32::new(0b11).unwrap();
+
 /// The layout entries of the apply pass's group 1 for an input: the depth (or the
 /// resolved layout) at binding 0 and, for [`ApplyInput::FarField`], the shaft texture
 /// (2D, unfilterable float) at binding 1.
@@ -132,6 +177,8 @@ pub struct ApplyPipeline {
     input: ApplyInput,
     format: wgpu::TextureFormat,
     samples: u32,
+    /// The view mask of a multiview pipeline ([`ApplyPipeline::multiview`]).
+    multiview: Option<NonZeroU32>,
     depth_layout: wgpu::BindGroupLayout,
     pipeline: wgpu::RenderPipeline,
     /// The variant without the far-plane tail (`VOLFOG_APPLY_NO_TAIL`), for frames whose
@@ -178,14 +225,71 @@ impl ApplyPipeline {
         input: ApplyInput,
         samples: u32,
     ) -> Result<Self, CodegenError> {
+        Self::build(device, fog_layout, filtering, format, input, samples, None)
+    }
+
+    /// The multiview apply of stereo fog (`VOLFOG_APPLY_MULTIVIEW`): one draw fogs both
+    /// layers of a two-layer colour target of `format` in a multiview render pass of view
+    /// mask [`STEREO_VIEW_MASK`], reading the stereo fog group (laid out by
+    /// `stereo_layout`, built from [`stereo_fog_layout_entries`] with `filtering`) at
+    /// group 0 and the eyes' depths as a two-layer array at group 1
+    /// ([`depth_array_layout_entries`]). The device needs `wgpu::Features::MULTIVIEW`
+    /// (without it wgpu rejects the pipeline):
+    /// [`StereoFog::create_apply_multiview`](crate::pipeline::StereoFog::create_apply_multiview)
+    /// checks it and is the usual way to build this.
+    pub fn multiview(
+        device: &wgpu::Device,
+        stereo_layout: &wgpu::BindGroupLayout,
+        filtering: Filtering,
+        format: wgpu::TextureFormat,
+    ) -> Result<Self, CodegenError> {
+        Self::multiview_views(device, stereo_layout, filtering, format, STEREO_VIEW_MASK)
+    }
+
+    /// [`ApplyPipeline::multiview`] drawing the views of `view_mask` (bits 0 and 1, the
+    /// left and the right eye): `0b11` both eyes; one bit, that eye alone, in its
+    /// layer (which needs `wgpu::Features::SELECTIVE_MULTIVIEW`).
+    pub fn multiview_views(
+        device: &wgpu::Device,
+        stereo_layout: &wgpu::BindGroupLayout,
+        filtering: Filtering,
+        format: wgpu::TextureFormat,
+        view_mask: NonZeroU32,
+    ) -> Result<Self, CodegenError> {
+        Self::build(
+            device,
+            stereo_layout,
+            filtering,
+            format,
+            ApplyInput::Depth,
+            1,
+            Some(view_mask),
+        )
+    }
+
+    fn build(
+        device: &wgpu::Device,
+        fog_layout: &wgpu::BindGroupLayout,
+        filtering: Filtering,
+        format: wgpu::TextureFormat,
+        input: ApplyInput,
+        samples: u32,
+        multiview: Option<NonZeroU32>,
+    ) -> Result<Self, CodegenError> {
         let vs = shader_module(device, "fullscreen", &[])?;
         let mut defines = filtering.defines();
         defines.extend(input.defines());
-        let depth_layout =
-            bind_group_layout(device, "volfog apply depth", &input_layout_entries(input));
+        let depth_entries = match multiview {
+            Some(_) => {
+                defines.push(MULTIVIEW_DEFINE.to_string());
+                depth_array_layout_entries().to_vec()
+            }
+            None => input_layout_entries(input),
+        };
+        let depth_layout = bind_group_layout(device, "volfog apply depth", &depth_entries);
         let pipeline = |label: &str, defines: &[String]| {
             let fs = shader_module(device, "apply", defines)?;
-            Ok::<_, CodegenError>(render_pipeline(
+            Ok::<_, CodegenError>(render_pipeline_multiview(
                 device,
                 RenderPipelineDesc {
                     label,
@@ -201,6 +305,7 @@ impl ApplyPipeline {
                     },
                     samples,
                 },
+                multiview,
             ))
         };
         let with_tail = pipeline("volfog apply", &defines)?;
@@ -217,6 +322,7 @@ impl ApplyPipeline {
             input,
             format,
             samples,
+            multiview,
             depth_layout,
             pipeline: with_tail,
             no_tail,
@@ -243,13 +349,19 @@ impl ApplyPipeline {
         self.samples
     }
 
+    /// The view mask of a multiview pipeline ([`ApplyPipeline::multiview`]; `None`
+    /// otherwise): record it into a render pass of the same mask.
+    pub fn multiview_mask(&self) -> Option<NonZeroU32> {
+        self.multiview
+    }
+
     /// The layout of group 1 (the scene depth).
     pub fn depth_bind_group_layout(&self) -> &wgpu::BindGroupLayout {
         &self.depth_layout
     }
 
     /// Group 1 for a scene depth view (a depth-aspect view of the depth texture, the
-    /// size of the colour target), or with [`ApplyInput::ResolvedLayout`] a view of the
+    /// size of the colour target; for a multiview pipeline a two-layer `D2Array` view), or with [`ApplyInput::ResolvedLayout`] a view of the
     /// resolved fog layout; build it once per texture.
     pub fn depth_bind_group(
         &self,
@@ -319,7 +431,8 @@ impl ApplyPipeline {
     }
 
     /// Records a render pass that loads `color` and blends the fog onto it (with the
-    /// tail, as [`ApplyPipeline::draw`]).
+    /// tail, as [`ApplyPipeline::draw`]). For a multiview pipeline the pass has its
+    /// view mask and `color` must be a `D2Array` view of as many layers.
     pub fn record(
         &self,
         encoder: &mut wgpu::CommandEncoder,
@@ -348,7 +461,13 @@ impl ApplyPipeline {
         timestamp_writes: Option<wgpu::RenderPassTimestampWrites<'_>>,
         tail: Tail,
     ) {
-        let mut pass = composite_pass(encoder, "volfog apply", color, timestamp_writes);
+        let mut pass = composite_pass_multiview(
+            encoder,
+            "volfog apply",
+            color,
+            timestamp_writes,
+            self.multiview,
+        );
         self.draw_tail(&mut pass, fog_group, depth_group, tail);
     }
 }
@@ -385,6 +504,18 @@ pub fn composite_pass<'e>(
     color: &wgpu::TextureView,
     timestamp_writes: Option<wgpu::RenderPassTimestampWrites<'_>>,
 ) -> wgpu::RenderPass<'e> {
+    composite_pass_multiview(encoder, label, color, timestamp_writes, None)
+}
+
+/// [`composite_pass`] as a multiview render pass of view mask `multiview_mask` (`None`:
+/// not multiview); `color` is then a `D2Array` view with a layer per view.
+pub fn composite_pass_multiview<'e>(
+    encoder: &'e mut wgpu::CommandEncoder,
+    label: &str,
+    color: &wgpu::TextureView,
+    timestamp_writes: Option<wgpu::RenderPassTimestampWrites<'_>>,
+    multiview_mask: Option<NonZeroU32>,
+) -> wgpu::RenderPass<'e> {
     encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
         label: Some(label),
         color_attachments: &[Some(wgpu::RenderPassColorAttachment {
@@ -399,6 +530,6 @@ pub fn composite_pass<'e>(
         depth_stencil_attachment: None,
         timestamp_writes,
         occlusion_query_set: None,
-        multiview_mask: None,
+        multiview_mask,
     })
 }

@@ -224,6 +224,16 @@ pub(crate) fn render_pipeline(
     device: &wgpu::Device,
     desc: RenderPipelineDesc<'_>,
 ) -> wgpu::RenderPipeline {
+    render_pipeline_multiview(device, desc, None)
+}
+
+/// [`render_pipeline`] for a multiview render pass of view mask `multiview_mask`
+/// (`None`: not multiview).
+pub(crate) fn render_pipeline_multiview(
+    device: &wgpu::Device,
+    desc: RenderPipelineDesc<'_>,
+    multiview_mask: Option<std::num::NonZeroU32>,
+) -> wgpu::RenderPipeline {
     let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
         label: Some(desc.label),
         bind_group_layouts: desc.bind_group_layouts,
@@ -250,7 +260,7 @@ pub(crate) fn render_pipeline(
             compilation_options: Default::default(),
             targets: &[Some(desc.target)],
         }),
-        multiview_mask: None,
+        multiview_mask,
         cache: None,
     })
 }

@@ -65,7 +65,9 @@ impl Gpu {
     /// The features [`Gpu::shared`] enables where the adapter has them.
     pub const SHARED_FEATURES: wgpu::Features = wgpu::Features::TIMESTAMP_QUERY
         .union(wgpu::Features::FLOAT32_BLENDABLE)
-        .union(wgpu::Features::FLOAT32_FILTERABLE);
+        .union(wgpu::Features::FLOAT32_FILTERABLE)
+        .union(wgpu::Features::MULTIVIEW)
+        .union(wgpu::Features::SELECTIVE_MULTIVIEW);
 
     /// One device for the whole process (the GPU test binary shares it), with those
     /// of [`Gpu::SHARED_FEATURES`] the adapter supports. Panics with the install
@@ -117,10 +119,15 @@ impl Gpu {
             })?;
         let info = adapter.get_info();
         let features = adapter.features() & wanted;
+        let mut limits = wgpu::Limits::default().using_resolution(adapter.limits());
+        if features.contains(wgpu::Features::MULTIVIEW) {
+            // Multiview draws as many views as the adapter allows (the default limit is 0).
+            limits.max_multiview_view_count = adapter.limits().max_multiview_view_count;
+        }
         let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
             label: Some("volfog"),
             required_features: features,
-            required_limits: wgpu::Limits::default().using_resolution(adapter.limits()),
+            required_limits: limits,
             experimental_features: wgpu::ExperimentalFeatures::disabled(),
             memory_hints: wgpu::MemoryHints::Performance,
             trace: wgpu::Trace::Off,

@@ -295,6 +295,8 @@ pub const MODULES: &[ModuleSource] = &[
     module!("apply"),
     module!("hull"),
     module!("bindings"),
+    module!("stereo_apply"),
+    module!("stereo_bindings"),
     module!("density"),
     module!("lights"),
     module!("area_lights"),

@@ -50,8 +50,18 @@ pub const PASSES: &[PassSource] = &[
         "apply",
         axes: &[
             Axis::Flag("VOLFOG_BINDINGS_NO_SAMPLER"),
-            Axis::Flag("VOLFOG_APPLY_RESOLVED"),
-            Axis::OneOf(&["VOLFOG_APPLY_EPIPOLAR", "VOLFOG_APPLY_NO_TAIL"]),
+            // The resolved MSAA layout, the far field and the variant without the tail
+            // combine as before; the multiview variant (stereo fog) reads depth, with
+            // the tail or without it.
+            Axis::Sets(&[
+                &["VOLFOG_APPLY_RESOLVED"],
+                &["VOLFOG_APPLY_EPIPOLAR"],
+                &["VOLFOG_APPLY_NO_TAIL"],
+                &["VOLFOG_APPLY_EPIPOLAR", "VOLFOG_APPLY_RESOLVED"],
+                &["VOLFOG_APPLY_NO_TAIL", "VOLFOG_APPLY_RESOLVED"],
+                &["VOLFOG_APPLY_MULTIVIEW"],
+                &["VOLFOG_APPLY_MULTIVIEW", "VOLFOG_APPLY_NO_TAIL"],
+            ]),
         ],
         values: &[],
         usage: "Draw 3 vertices with fullscreen_vs (pass fullscreen), no vertex buffers, onto \
@@ -68,7 +78,17 @@ pub const PASSES: &[PassSource] = &[
                 VOLFOG_APPLY_NO_TAIL leaves out the analytic tail beyond the far plane: use \
                 it for frames whose tail has density 0, where it draws the same image for \
                 less work per pixel. It declares no group 0 binding 3 (the tail), so the fog \
-                group of the other variants fits it as it is.",
+                group of the other variants fits it as it is. VOLFOG_APPLY_MULTIVIEW (stereo \
+                fog, both eyes in one draw): a multiview render pass and pipeline with view \
+                mask 0b11 onto a two-layer colour target (layer 0 the left eye); group 0 is \
+                the stereo fog group (volfog::stereo_bindings: the left eye at the fog group's \
+                bindings 0 to 4, the right eye's Froxels, volume, tail and FogView at 5, 6, 8, \
+                9, one sampler at 2); group 1 binding 0 is a two-layer texture_2d_array of \
+                the eyes' scene depths, bound as unfilterable float. Its fragment reads the \
+                view index: HLSL needs SM 6.1 (SV_ViewID), MSL 2.2 (amplification_id), GLSL \
+                GL_EXT_multiview (a Vulkan GLSL extension, for glslang and shaderc: OpenGL \
+                drivers do not take it), SPIR-V the MultiView capability; WGSL's \
+                @builtin(view_index) is a wgpu extension that Dawn/Tint do not accept.",
         render: FULLSCREEN_COMPOSITE
     ),
     pass!(

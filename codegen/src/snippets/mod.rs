@@ -38,8 +38,9 @@ use chunks::chunks;
 use render::{render, union};
 
 /// The modules exported as snippets.
-pub const SNIPPET_MODULES: [&str; 11] = [
+pub const SNIPPET_MODULES: [&str; 12] = [
     "apply",
+    "stereo_apply",
     "height_fog",
     "fog_volume",
     "lightning",

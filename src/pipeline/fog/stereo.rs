@@ -43,6 +43,8 @@ use crate::pipeline::apply::{ApplyPipeline, FogResources, Tail, fog_bind_group, 
 use crate::pipeline::scan::{ResampleEye, ResampleScanResources, ScanPass};
 use crate::uniforms::{self, FogView, Froxels, HeightFog, TransientLighting};
 
+mod multiview;
+
 /// One eye's volume and the uniforms its scan and apply read.
 #[derive(Debug)]
 struct EyeVolume {
@@ -68,6 +70,8 @@ pub struct StereoFog {
     /// stabilised volume of that parity.
     scan_groups: [wgpu::BindGroup; 2],
     centre: Option<CentreEye>,
+    /// Both eyes' fog in one group, for multiview shaders (`multiview.rs`).
+    stereo: multiview::StereoGroup,
 }
 
 impl StereoFog {
@@ -145,6 +149,7 @@ impl StereoFog {
             )
             .expect("the resampling scan without culling")
         });
+        let stereo = multiview::StereoGroup::new(device, config.apply_filtering, &shared, &eyes);
         Ok(Self {
             config: config.clone(),
             shared,
@@ -152,6 +157,7 @@ impl StereoFog {
             eyes,
             scan_groups,
             centre: None,
+            stereo,
         })
     }
 

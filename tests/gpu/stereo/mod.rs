@@ -6,6 +6,7 @@
 mod disparity;
 mod equality;
 mod errors;
+mod multiview;
 
 use crate::common::gpu;
 use crate::common::scene::{SLAB, medium, overhead_sun, shadow_map, small_config};
