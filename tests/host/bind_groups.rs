@@ -307,14 +307,26 @@ fn runtime_layouts_match_the_shaders() {
         } else {
             ApplyInput::Depth
         };
-        let groups = [
-            (
-                0,
-                apply::fog_layout_entries(filtering, wgpu::ShaderStages::FRAGMENT),
-            ),
-            (1, apply::input_layout_entries(input)),
-        ];
-        // The apply pass reads the fog group but not its FogView (binding 4).
+        // The multiview apply reads the stereo fog group and the eyes' depth array.
+        let groups = if v.defines.contains(&apply::MULTIVIEW_DEFINE) {
+            [
+                (
+                    0,
+                    apply::stereo_fog_layout_entries(filtering, wgpu::ShaderStages::FRAGMENT),
+                ),
+                (1, apply::depth_array_layout_entries().to_vec()),
+            ]
+        } else {
+            [
+                (
+                    0,
+                    apply::fog_layout_entries(filtering, wgpu::ShaderStages::FRAGMENT),
+                ),
+                (1, apply::input_layout_entries(input)),
+            ]
+        };
+        // The apply pass reads the fog group but not its FogView (binding 4; the stereo
+        // group's 4 and 9).
         checked += check_entries(&variant(name).entries, name, &groups, &[1]);
     }
     for name in ["hull_thickness@default", "hull_thickness@HULL_RESOLVED"] {
