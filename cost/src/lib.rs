@@ -39,6 +39,7 @@ pub mod model;
 pub mod pipeline;
 pub mod stats;
 pub mod stereo;
+pub mod stereo_multiview;
 pub mod transient;
 pub mod worker;
 pub mod workload;

@@ -29,11 +29,7 @@
 #define_import_path volfog::stereo_bindings
 
 #import volfog::types::{Froxels, HeightFog, FogView}
-#ifdef VOLFOG_BINDINGS_NO_SAMPLER
-#import volfog::stereo_apply::{stereo_fog_view_load, stereo_fog_world_load}
-#else
-#import volfog::stereo_apply::{stereo_fog_view, stereo_fog_world}
-#endif
+#import volfog::stereo_apply::{stereo_fog_view, stereo_fog_view_load, stereo_fog_world, stereo_fog_world_load}
 
 #ifdef VOLFOG_STEREO_FOG_GROUP
 @group(#{VOLFOG_STEREO_FOG_GROUP}) @binding(0) var<uniform> stereo_left_froxels: Froxels;

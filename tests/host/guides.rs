@@ -255,7 +255,11 @@ fn every_guide_wgsl_block_composes_and_validates() {
                 source.push_str(standin);
             }
         }
-        let mut composer = Composer::default();
+        // Multiview shaders (`@builtin(view_index)`, the stereo section) validate with
+        // the capability a device with wgpu::Features::MULTIVIEW grants.
+        let capabilities =
+            naga::valid::Capabilities::default() | naga::valid::Capabilities::MULTIVIEW;
+        let mut composer = Composer::default().with_capabilities(capabilities);
         volfog::shaders::add_to_composer(&mut composer).unwrap();
         let module = composer
             .make_naga_module(NagaModuleDescriptor {
@@ -269,12 +273,9 @@ fn every_guide_wgsl_block_composes_and_validates() {
             "{}: no entry point to compose",
             b.at
         );
-        naga::valid::Validator::new(
-            naga::valid::ValidationFlags::all(),
-            naga::valid::Capabilities::default(),
-        )
-        .validate(&module)
-        .unwrap_or_else(|e| panic!("{}: {}", b.at, e.emit_to_string(&source)));
+        naga::valid::Validator::new(naga::valid::ValidationFlags::all(), capabilities)
+            .validate(&module)
+            .unwrap_or_else(|e| panic!("{}: {}", b.at, e.emit_to_string(&source)));
         eprintln!("{}: composed and validated", b.at);
     }
 }

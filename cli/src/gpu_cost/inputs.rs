@@ -56,7 +56,8 @@ pub fn configs() -> Vec<(String, FogConfig)> {
 }
 
 /// The name in [`configs`] of stereo fog (`StereoFog`) of the default configuration:
-/// its pipelines are those of [`volfog_cost::stereo::stereo_variants`].
+/// its pipelines are those of [`volfog_cost::stereo::stereo_variants`] and the multiview
+/// apply's ([`volfog_cost::stereo_multiview::multiview_apply_variants`]).
 pub const STEREO_DEFAULT: &str = "stereo: default";
 
 /// Whether the configuration named `name` in [`configs`] is stereo fog's.

@@ -253,7 +253,12 @@ pub fn pipelines(
     let mut out: Vec<(Shader, Vec<String>)> = Vec::new();
     for (name, config) in configs {
         let variants = if inputs::is_stereo(name) {
-            volfog_cost::stereo::stereo_variants(config)
+            // Stereo fog's pipelines and its multiview apply.
+            let mut v = volfog_cost::stereo::stereo_variants(config);
+            v.extend(volfog_cost::stereo_multiview::multiview_apply_variants(
+                config,
+            ));
+            v
         } else {
             runtime_variants(config)
         };

@@ -108,7 +108,9 @@ fn target_info(target: Target) -> TargetInfo {
         Target::Wgsl => (
             "WGSL (WebGPU)",
             "naga (all validation flags); Dawn/Tint compiles every module and creates every \
-             pipeline with layouts built from this manifest; runs on wgpu in the tests",
+             pipeline with layouts built from this manifest, except the entry points that \
+             read @builtin(view_index) (the multiview apply), which Tint takes only under \
+             `enable view_instancing;`; runs on wgpu in the tests",
         ),
         Target::Spirv => (
             "SPIR-V 1.3, Vulkan 1.1",
@@ -119,14 +121,17 @@ fn target_info(target: Target) -> TargetInfo {
             "GLSL 450 core",
             "naga; compiled and linked per program (vertex + fragment, or compute) by \
              Mesa's OpenGL 4.5 driver, with block and uniform bindings checked against this \
-             manifest",
+             manifest; fragment shaders that read the view index (the multiview apply) are \
+             Vulkan GLSL (GL_EXT_multiview, which OpenGL drivers do not take), compiled by \
+             glslang for Vulkan 1.1",
         ),
         Target::Hlsl => (
-            "HLSL shader model 6.0",
+            "HLSL shader model 6.0 (6.1 for entry points that read the view index, SV_ViewID)",
             "naga; compiled by Slang (HLSL front end, sm_6_0) with warnings as errors",
         ),
         Target::Msl => (
-            "Metal Shading Language 2.1",
+            "Metal Shading Language 2.1 (2.2 for entry points that read the view index, \
+             amplification_id)",
             "naga only: no Metal compiler is reachable where volfog is tested",
         ),
     };

@@ -86,9 +86,10 @@ pub const PASSES: &[PassSource] = &[
                 9, one sampler at 2); group 1 binding 0 is a two-layer texture_2d_array of \
                 the eyes' scene depths, bound as unfilterable float. Its fragment reads the \
                 view index: HLSL needs SM 6.1 (SV_ViewID), MSL 2.2 (amplification_id), GLSL \
-                GL_EXT_multiview (a Vulkan GLSL extension, for glslang and shaderc: OpenGL \
-                drivers do not take it), SPIR-V the MultiView capability; WGSL's \
-                @builtin(view_index) is a wgpu extension that Dawn/Tint do not accept.",
+                GL_EXT_multiview (Vulkan GLSL, for glslang and shaderc: OpenGL drivers do not \
+                take it), SPIR-V the MultiView capability; Dawn/Tint take \
+                @builtin(view_index) only under `enable view_instancing;`, which the WGSL \
+                file (as naga and wgpu write and read it) does not declare.",
         render: FULLSCREEN_COMPOSITE
     ),
     pass!(
