@@ -66,21 +66,20 @@ fn main() -> Result {
         let second_drawn = both[pixels..]
             .iter()
             .any(|p| (p.truncate() - cleared).abs().max_element() > 1e-3);
-        for (eye, (got, want)) in both.chunks(pixels).zip(layers.chunks(pixels)).enumerate() {
-            let largest = got
-                .iter()
-                .zip(want)
-                .map(|(a, b)| (*a - *b).abs().max_element())
-                .fold(0.0f32, f32::max);
-            println!(
-                "multiview apply, layer {eye}: largest difference {largest:e} from the apply per layer"
-            );
-            // One rgba16float step at the image's values (below 1).
-            if second_drawn {
+        if second_drawn {
+            for (eye, (got, want)) in both.chunks(pixels).zip(layers.chunks(pixels)).enumerate() {
+                let largest = got
+                    .iter()
+                    .zip(want)
+                    .map(|(a, b)| (*a - *b).abs().max_element())
+                    .fold(0.0f32, f32::max);
+                println!(
+                    "multiview apply, layer {eye}: largest difference {largest:e} from the apply per layer"
+                );
+                // One rgba16float step at the image's values (below 2).
                 assert!(largest <= 1.0 / 1024.0, "the multiview apply matches");
             }
-        }
-        if !second_drawn {
+        } else {
             println!(
                 "multiview apply: the driver drew no view into layer 1 (Mesa 22.3's lavapipe \
                  draws both views of a multiview pass into layer 0); not compared"
