@@ -8,7 +8,7 @@ use naga::valid::{Capabilities, ModuleInfo, ValidationFlags, Validator};
 use wesl::syntax::{GlobalDeclaration, ModulePath, PathOrigin};
 
 use crate::fixtures::{Sources, all_features, combinations, label, package, sources};
-use crate::{FOG_GROUP, FOG_GROUP_FLAG};
+use crate::{FOG_GROUP, FOG_GROUP_FLAG, group_value};
 
 /// Resolves `volfog::<module>` to the sources and Bevy's virtual `constants` package to
 /// the integer defines that are on, as Bevy's shader cache does.
@@ -55,8 +55,9 @@ impl wesl::Resolver for Resolver<'_> {
 /// Compiles module `name` as Bevy compiles a WESL shader: imports and conditional
 /// translation on, visibility off, the main module `volfog::<name>`. Every flag of
 /// `all` is set on or off (an `@if` naming any other flag is an error), and the
-/// `constants` package holds `VOLFOG_FOG_GROUP = 3` when that flag is on and does not
-/// exist otherwise. Every declaration of the module is kept.
+/// `constants` package (where `constants` is set) holds `VOLFOG_FOG_GROUP = 3` and
+/// `VOLFOG_STEREO_FOG_GROUP = 2` for those flags that are on, and does not exist
+/// otherwise. Every declaration of the module is kept.
 fn compile(
     modules: &Sources,
     name: &str,
@@ -77,7 +78,11 @@ fn compile(
     }
     let resolver = Resolver {
         modules,
-        constants: constants.then(|| format!("const {FOG_GROUP_FLAG} = {FOG_GROUP};\n")),
+        constants: constants.then(|| {
+            on.iter()
+                .filter_map(|flag| group_value(flag).map(|v| format!("const {flag} = {v};\n")))
+                .collect()
+        }),
     };
     let main = ModulePath::new(PathOrigin::Package("volfog".into()), vec![name.into()]);
     wesl::compile(&main, &options, &resolver)
@@ -96,8 +101,8 @@ pub(crate) struct Compiled {
     pub(crate) own: BTreeSet<String>,
 }
 
-/// [`compile`] (with the constants package exactly when the fog group flag is on), the
-/// WGSL parsed and validated by naga.
+/// [`compile`] (with the constants package exactly when a group flag is on), the WGSL
+/// parsed and validated by naga.
 pub(crate) fn compile_validated(
     modules: &Sources,
     name: &str,
@@ -105,7 +110,7 @@ pub(crate) fn compile_validated(
     all: &[String],
 ) -> Compiled {
     let what = label(name, on);
-    let constants = on.iter().any(|f| f == FOG_GROUP_FLAG);
+    let constants = on.iter().any(|f| group_value(f).is_some());
     let result = compile(modules, name, on, all, constants)
         .unwrap_or_else(|e| panic!("{what}: WESL compilation failed:\n{e}"));
     let wgsl = result.to_string();

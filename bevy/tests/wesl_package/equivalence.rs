@@ -11,10 +11,11 @@ use crate::compile::{Compiled, compile_validated, validate};
 use crate::fixtures::{
     Sources, all_features, combinations, label, naga_oil_source, package, sources,
 };
-use crate::{FOG_GROUP, FOG_GROUP_FLAG};
+use crate::group_value;
 
 /// naga_oil's composition of a source as the top-level module, under the same flags
-/// (the fog group as the integer define `VOLFOG_FOG_GROUP=3`).
+/// (the fog groups as the integer defines `VOLFOG_FOG_GROUP=3` and
+/// `VOLFOG_STEREO_FOG_GROUP=2`).
 fn compose(
     composer: &mut Composer,
     file: &str,
@@ -25,11 +26,7 @@ fn compose(
     let shader_defs = on
         .iter()
         .map(|flag| {
-            let value = if flag == FOG_GROUP_FLAG {
-                ShaderDefValue::UInt(FOG_GROUP)
-            } else {
-                ShaderDefValue::Bool(true)
-            };
+            let value = group_value(flag).map_or(ShaderDefValue::Bool(true), ShaderDefValue::UInt);
             (flag.clone(), value)
         })
         .collect();
