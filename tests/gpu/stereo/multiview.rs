@@ -322,23 +322,10 @@ fn draw(
     pipeline: &wgpu::RenderPipeline,
     groups: [&wgpu::BindGroup; 2],
 ) {
-    let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-        label: Some("forward"),
-        color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-            view,
-            depth_slice: None,
-            resolve_target: None,
-            ops: wgpu::Operations {
-                // The targets start transparent black.
-                load: wgpu::LoadOp::Load,
-                store: wgpu::StoreOp::Store,
-            },
-        })],
-        depth_stencil_attachment: None,
-        timestamp_writes: None,
-        occlusion_query_set: None,
-        multiview_mask: multiview,
-    });
+    // The targets start transparent black; the pass loads and stores them.
+    let mut pass = volfog::pipeline::apply::composite_pass_multiview(
+        encoder, "forward", view, None, multiview,
+    );
     pass.set_pipeline(pipeline);
     pass.set_bind_group(0, groups[0], &[]);
     pass.set_bind_group(1, groups[1], &[]);
